@@ -1,0 +1,73 @@
+// gpl-run: steps a scene without a display and prints a summary; see ./lab run --help.
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "gpl/runner.h"
+#include "gpl/scenes.h"
+
+namespace {
+
+int fail(const std::string& message) {
+    std::cerr << "error: " << message << '\n';
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Steps a scene headless and prints a summary (energy drift, hooks still open)."};
+    std::string sceneName = "falling-sphere";
+    long long steps = 500;
+    double dt = NAN;
+    std::string csvPath;
+    bool list = false;
+    app.add_option("--scene,-s", sceneName, "scene name or key (1-9, 0, F1-F12)");
+    app.add_option("--steps,-n", steps, "number of time steps");
+    app.add_option("--dt", dt, "time step in seconds (default: the scene's)");
+    app.add_option("--csv", csvPath, "write one row per body and step to this file");
+    app.add_flag("--list", list, "list the scenes and exit");
+    CLI11_PARSE(app, argc, argv);
+
+    if (list) {
+        for (const auto& s : gpl::scenes().all()) {
+            std::cout << s.key << '\t' << s.name << "\t" << s.description << '\n';
+        }
+        return 0;
+    }
+    if (steps < 0) return fail("--steps must be 0 or more, got " + std::to_string(steps));
+
+    gpl::PhysicsEngine engine;
+    const gpl::Scene* scene = nullptr;
+    try {
+        scene = &gpl::scenes().find(sceneName);
+        gpl::load(engine, *scene);
+        if (app.count("--dt")) engine.setTimeStep(dt);
+    } catch (const std::exception& e) {
+        return fail(e.what());
+    }
+
+    std::ofstream csv;
+    const std::string partial = csvPath + ".partial";
+    if (!csvPath.empty()) {
+        csv.open(partial);
+        if (!csv) return fail("cannot write the CSV file '" + csvPath + "'");
+        gpl::writeCsvHeader(csv);
+    }
+
+    std::cout << "scene " << scene->key << " '" << scene->name << "': " << scene->description << '\n';
+    const gpl::RunSummary summary = gpl::run(engine, static_cast<std::size_t>(steps), csvPath.empty() ? nullptr : &csv);
+    std::cout << gpl::describe(summary, engine);
+
+    if (!csvPath.empty()) {
+        csv.close();
+        if (!csv || std::rename(partial.c_str(), csvPath.c_str()) != 0) {
+            std::remove(partial.c_str());
+            return fail("could not finish writing '" + csvPath + "'");
+        }
+        std::cout << "wrote " << csvPath << '\n';
+    }
+    return summary.error.empty() ? 0 : 1;
+}

@@ -1,0 +1,35 @@
+// Headless runner: steps a loaded scene, optionally writes one CSV row per body and step, and
+// summarises the run (energy drift, hooks still open).
+#pragma once
+
+#include <cstddef>
+#include <ostream>
+#include <string>
+
+#include "gpl/engine.h"
+
+namespace gpl {
+
+struct RunSummary {
+    std::size_t steps = 0;          ///< steps taken
+    double simulatedTime = 0.0;     ///< s
+    double initialEnergy = 0.0;     ///< J
+    double finalEnergy = 0.0;       ///< J
+    double maxEnergyIncrease = 0.0; ///< largest increase of the total energy over one step (J), 0 if none
+    double maxSpeed = 0.0;          ///< largest speed of any body at the end (m/s)
+    std::string error;              ///< empty, or why the run stopped early (a non-finite state)
+};
+
+/// The CSV header written by run(): step,time,body,x,y,z,vx,vy,vz,kinetic,potential,total.
+/// One row per body and step (step 0 is the initial state); a row named "world" holds the centre
+/// of mass, its velocity and the world's energies.
+void writeCsvHeader(std::ostream& csv);
+
+/// Steps the engine `steps` times. Rows go to csv when it is not null. A SimulationError stops the
+/// run and is reported in the summary instead of thrown.
+RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv);
+
+/// The summary as a few lines of text for people.
+std::string describe(const RunSummary& summary, const PhysicsEngine& engine);
+
+}  // namespace gpl

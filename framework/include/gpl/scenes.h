@@ -1,0 +1,48 @@
+// Scenes: one small function per scene, registered with a name, a key and a description.
+// Keys 1-9, 0 and F1-F10 belong to the course's scenes; F11 and F12 to the student's own
+// (assignments/student_scenes.cpp).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gpl/engine.h"
+
+namespace gpl {
+
+struct Scene {
+    std::string name;         ///< e.g. "falling-sphere"; used on the command line
+    std::string key;          ///< "1".."9", "0", "F1".."F12"
+    std::string description;  ///< one sentence: what to look at
+    int worksheet = 0;        ///< the worksheet the scene belongs to (0: the student's own)
+    StageSet stages;          ///< the stages the scene requires
+    double timeStep = kDefaultTimeStep;        ///< s
+    std::function<void(PhysicsEngine&)> build; ///< adds the bodies
+};
+
+class SceneRegistry {
+public:
+    /// Adds a scene; throws std::invalid_argument on a duplicate name or key or an unknown key.
+    void add(Scene scene);
+    const std::vector<Scene>& all() const { return scenes_; }
+    /// The scene with this name or key (case-insensitive key); throws std::invalid_argument
+    /// listing the known scenes when there is none.
+    const Scene& find(const std::string& nameOrKey) const;
+
+private:
+    std::vector<Scene> scenes_;
+};
+
+/// Every scene: the course's and the student's (F11/F12).
+const SceneRegistry& scenes();
+
+/// Empties the engine and loads the scene: settings to defaults, the scene's stages and time
+/// step, then its bodies.
+void load(PhysicsEngine& engine, const Scene& scene);
+
+// Registration functions, one per group of scenes (called by scenes()).
+void addWorksheet1Scenes(SceneRegistry& registry);
+void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
+
+}  // namespace gpl

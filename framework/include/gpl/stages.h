@@ -1,0 +1,41 @@
+// The stages of a time step, named once, as data. A scene declares the stages it requires; the
+// time step runs only those (a falling-sphere scene pays nothing for collisions).
+#pragma once
+
+#include <array>
+#include <bitset>
+#include <initializer_list>
+#include <string>
+
+namespace gpl {
+
+enum class Stage {
+    ConstantAcceleration,  ///< forces: gravity into every movable body's accumulator (worksheet 1)
+    Integration,           ///< advance velocities and positions by one time step (worksheet 1)
+    Count
+};
+
+constexpr std::size_t kStageCount = static_cast<std::size_t>(Stage::Count);
+
+/// Short name of a stage as shown by the runner and the viewer ("gravity", "integrate").
+const char* stageName(Stage stage);
+
+/// A set of stages.
+class StageSet {
+public:
+    StageSet() = default;
+    StageSet(std::initializer_list<Stage> stages) {
+        for (Stage s : stages) insert(s);
+    }
+    void insert(Stage s) { bits_.set(index(s)); }
+    void erase(Stage s) { bits_.reset(index(s)); }
+    bool contains(Stage s) const { return bits_.test(index(s)); }
+    /// Names of the stages in the set, comma separated, in stage order.
+    std::string names() const;
+
+private:
+    static std::size_t index(Stage s) { return static_cast<std::size_t>(s); }
+    std::bitset<kStageCount> bits_;
+};
+
+}  // namespace gpl

@@ -1,0 +1,87 @@
+#include "gpl/runner.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace gpl {
+namespace {
+
+void writeRow(std::ostream& csv, const PhysicsEngine& e, const std::string& name, const Vec3& x, const Vec3& v,
+              double kinetic, double potential) {
+    csv << e.stepCount() << ',' << e.time() << ',' << name << ',' << x.x() << ',' << x.y() << ',' << x.z() << ','
+        << v.x() << ',' << v.y() << ',' << v.z() << ',' << kinetic << ',' << potential << ',' << kinetic + potential
+        << '\n';
+}
+
+void writeRows(std::ostream& csv, const PhysicsEngine& e) {
+    double movableMass = 0.0;
+    Vec3 weightedPosition = Vec3::Zero();
+    for (const Body& b : e.bodies()) {
+        writeRow(csv, e, b.name, b.position, b.velocity, kineticEnergy(b), potentialEnergy(b, e.gravity()));
+        if (b.isStatic()) continue;
+        movableMass += b.mass;
+        weightedPosition += b.mass * b.position;
+    }
+    const Vec3 centre = movableMass > 0.0 ? Vec3(weightedPosition / movableMass) : Vec3::Zero();
+    const Vec3 centreVelocity = movableMass > 0.0 ? Vec3(e.linearMomentum() / movableMass) : Vec3::Zero();
+    writeRow(csv, e, "world", centre, centreVelocity, e.kineticEnergy(), e.potentialEnergy());
+}
+
+}  // namespace
+
+void writeCsvHeader(std::ostream& csv) { csv << "step,time,body,x,y,z,vx,vy,vz,kinetic,potential,total\n"; }
+
+RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
+    RunSummary s;
+    s.initialEnergy = engine.totalEnergy();
+    if (csv) {
+        *csv << std::setprecision(17);
+        writeRows(*csv, engine);
+    }
+    const double startTime = engine.time();
+    double previous = s.initialEnergy;
+    try {
+        for (std::size_t i = 0; i < steps; ++i) {
+            engine.step();
+            ++s.steps;
+            const double energy = engine.totalEnergy();
+            s.maxEnergyIncrease = std::max(s.maxEnergyIncrease, energy - previous);
+            previous = energy;
+            if (csv) writeRows(*csv, engine);
+        }
+    } catch (const SimulationError& error) {
+        s.error = error.what();
+    }
+    s.simulatedTime = engine.time() - startTime;
+    s.finalEnergy = engine.totalEnergy();
+    for (const Body& b : engine.bodies()) s.maxSpeed = std::max(s.maxSpeed, b.velocity.norm());
+    return s;
+}
+
+std::string describe(const RunSummary& s, const PhysicsEngine& e) {
+    std::ostringstream out;
+    out << std::setprecision(6);
+    out << "steps: " << s.steps << " of h = " << e.timeStep() << " s (" << s.simulatedTime << " s simulated), "
+        << e.bodies().size() << " bodies, stages: " << e.requiredStages().names() << '\n';
+    const double drift = s.finalEnergy - s.initialEnergy;
+    out << "total energy: " << s.initialEnergy << " J -> " << s.finalEnergy << " J (drift " << std::showpos << drift
+        << std::noshowpos << " J";
+    if (s.initialEnergy != 0.0) out << ", " << std::showpos << 100.0 * drift / std::abs(s.initialEnergy) << std::noshowpos << " %";
+    if (s.steps > 0) out << ", " << std::showpos << drift / static_cast<double>(s.steps) << std::noshowpos << " J per step";
+    out << ")\n";
+    if (s.maxEnergyIncrease > 0.0) {
+        out << "largest energy increase in one step: " << s.maxEnergyIncrease << " J\n";
+    }
+    out << "largest speed at the end: " << s.maxSpeed << " m/s\n";
+    if (!e.missingHooks().empty()) {
+        out << "hooks not implemented yet:";
+        for (const auto& h : e.missingHooks()) out << ' ' << h;
+        out << '\n';
+    }
+    if (!s.error.empty()) out << "stopped early: " << s.error << '\n';
+    return out.str();
+}
+
+}  // namespace gpl

@@ -1,0 +1,62 @@
+#include "gpl/scenes.h"
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+
+namespace gpl {
+namespace {
+
+std::string upper(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
+    return s;
+}
+
+bool validKey(const std::string& key) {
+    static const std::vector<std::string> keys = {"1",  "2",  "3",  "4",  "5",  "6",  "7",   "8",   "9",   "0",  "F1",
+                                                  "F2", "F3", "F4", "F5", "F6", "F7", "F8",  "F9",  "F10", "F11", "F12"};
+    return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+}  // namespace
+
+void SceneRegistry::add(Scene scene) {
+    scene.key = upper(scene.key);
+    if (!validKey(scene.key)) throw std::invalid_argument("scene '" + scene.name + "': key must be 0-9 or F1-F12");
+    for (const Scene& s : scenes_) {
+        if (s.name == scene.name) throw std::invalid_argument("two scenes are named '" + scene.name + "'");
+        if (s.key == scene.key) {
+            throw std::invalid_argument("scenes '" + s.name + "' and '" + scene.name + "' share the key " + scene.key);
+        }
+    }
+    scenes_.push_back(std::move(scene));
+}
+
+const Scene& SceneRegistry::find(const std::string& nameOrKey) const {
+    for (const Scene& s : scenes_) {
+        if (s.name == nameOrKey || s.key == upper(nameOrKey)) return s;
+    }
+    std::string known;
+    for (const Scene& s : scenes_) known += "\n  " + s.key + "\t" + s.name;
+    throw std::invalid_argument("unknown scene '" + nameOrKey + "'; known scenes (key, name):" + known);
+}
+
+const SceneRegistry& scenes() {
+    static const SceneRegistry registry = [] {
+        SceneRegistry r;
+        addWorksheet1Scenes(r);
+        addStudentScenes(r);
+        return r;
+    }();
+    return registry;
+}
+
+void load(PhysicsEngine& engine, const Scene& scene) {
+    engine.clear();
+    engine.setGravity(standardGravity());
+    engine.setTimeStep(scene.timeStep);
+    engine.setRequiredStages(scene.stages);
+    if (scene.build) scene.build(engine);
+}
+
+}  // namespace gpl

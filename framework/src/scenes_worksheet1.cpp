@@ -1,0 +1,62 @@
+// Worksheet 1 scenes: free fall and projectiles under gravity alone.
+#include <cmath>
+#include <string>
+
+#include "gpl/scenes.h"
+
+namespace gpl {
+namespace {
+
+const StageSet kFreeFall{Stage::ConstantAcceleration, Stage::Integration};
+
+void fallingSphere(PhysicsEngine& e) {
+    e.add(sphere("ball", 0.5, 1.0).at({0.0, 10.0, 0.0}));
+}
+
+// Masses over four orders of magnitude, spheres and boxes: all fall alike.
+void massesSideBySide(PhysicsEngine& e) {
+    const struct {
+        double mass;  // kg
+        const char* tag;
+    } sizes[] = {{0.1, "0.1kg"}, {1.0, "1kg"}, {10.0, "10kg"}, {1000.0, "1000kg"}};
+    double x = -4.5;
+    for (const auto& s : sizes) {
+        e.add(sphere(std::string("sphere-") + s.tag, 0.4, s.mass).at({x, 10.0, 0.0}));
+        e.add(box(std::string("box-") + s.tag, {0.4, 0.4, 0.4}, s.mass).at({x + 1.2, 10.0, 0.0}));
+        x += 2.6;
+    }
+}
+
+// Thrown at 45 degrees with 15 m/s: range v^2/g = 22.9 m, apex v^2/(4g) = 5.7 m above the start.
+void projectile(PhysicsEngine& e) {
+    const double speed = 15.0;
+    const double angle = M_PI / 4.0;
+    e.add(sphere("projectile", 0.3, 0.5)
+              .at({-10.0, 1.0, 0.0})
+              .moving({speed * std::cos(angle), speed * std::sin(angle), 0.0}));
+}
+
+// Static bodies (a floor plane, a shelf, a pillar) beside movable ones: only the movable fall.
+void staticAndMovable(PhysicsEngine& e) {
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    e.add(box("shelf", {2.0, 0.2, 1.0}, 1.0).at({-3.0, 5.0, 0.0}).makeStatic());
+    e.add(box("pillar", {0.5, 3.0, 0.5}, 1.0).at({3.0, 3.0, 0.0}).makeStatic());
+    e.add(sphere("ball", 0.5, 2.0).at({0.0, 8.0, 0.0}));
+    e.add(box("crate", {0.5, 0.5, 0.5}, 5.0).at({-3.0, 9.0, 0.0}).moving({1.0, 0.0, 0.0}));
+    e.add(sphere("pebble", 0.2, 0.1).at({3.0, 9.0, 0.0}).moving({-0.5, 2.0, 0.0}));
+}
+
+}  // namespace
+
+void addWorksheet1Scenes(SceneRegistry& r) {
+    r.add({"falling-sphere", "1", "One sphere dropped from 10 m: free fall under gravity.", 1, kFreeFall,
+           kDefaultTimeStep, fallingSphere});
+    r.add({"masses", "2", "Spheres and boxes from 0.1 kg to 1000 kg dropped side by side: all fall alike.", 1,
+           kFreeFall, kDefaultTimeStep, massesSideBySide});
+    r.add({"projectile", "3", "A ball thrown at 45 degrees with 15 m/s: a parabola.", 1, kFreeFall,
+           kDefaultTimeStep, projectile});
+    r.add({"static-and-movable", "4", "A floor, a shelf and a pillar that stay put, and three bodies that fall.", 1,
+           kFreeFall, kDefaultTimeStep, staticAndMovable});
+}
+
+}  // namespace gpl

@@ -1,0 +1,25 @@
+#include "gpl/stages.h"
+
+namespace gpl {
+
+const char* stageName(Stage stage) {
+    switch (stage) {
+        case Stage::ConstantAcceleration: return "gravity";
+        case Stage::Integration: return "integrate";
+        case Stage::Count: break;
+    }
+    return "unknown";
+}
+
+std::string StageSet::names() const {
+    std::string out;
+    for (std::size_t i = 0; i < kStageCount; ++i) {
+        const auto s = static_cast<Stage>(i);
+        if (!contains(s)) continue;
+        if (!out.empty()) out += ", ";
+        out += stageName(s);
+    }
+    return out;
+}
+
+}  // namespace gpl

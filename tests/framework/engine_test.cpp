@@ -1,0 +1,104 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "gpl/engine.h"
+
+namespace gpl {
+namespace {
+
+TEST(Engine, DefaultsAreDocumented) {
+    PhysicsEngine e;
+    EXPECT_EQ(e.timeStep(), kDefaultTimeStep);
+    EXPECT_EQ(e.gravity(), Vec3(0.0, -9.81, 0.0));
+    EXPECT_TRUE(e.stageActive(Stage::ConstantAcceleration));
+    EXPECT_TRUE(e.stageActive(Stage::Integration));
+}
+
+TEST(Engine, RejectsBadSettings) {
+    PhysicsEngine e;
+    EXPECT_THROW(e.setTimeStep(0.0), std::invalid_argument);
+    EXPECT_THROW(e.setTimeStep(-0.01), std::invalid_argument);
+    EXPECT_THROW(e.setTimeStep(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+    EXPECT_THROW(e.setTimeStep(std::numeric_limits<double>::infinity()), std::invalid_argument);
+    EXPECT_THROW(e.setGravity(Vec3(0.0, std::numeric_limits<double>::quiet_NaN(), 0.0)), std::invalid_argument);
+    EXPECT_EQ(e.timeStep(), kDefaultTimeStep);
+}
+
+TEST(Engine, RejectsBadBodiesAndDuplicateNames) {
+    PhysicsEngine e;
+    e.add(sphere("ball", 0.5, 1.0));
+    EXPECT_THROW(e.add(sphere("ball", 0.5, 1.0)), std::invalid_argument);
+    Body bad = sphere("bad", 0.5, 1.0);
+    bad.position.y() = std::numeric_limits<double>::infinity();
+    EXPECT_THROW(e.add(bad), std::invalid_argument);
+    EXPECT_EQ(e.bodies().size(), 1u);
+    EXPECT_THROW(e.body("nobody"), std::out_of_range);
+}
+
+TEST(Engine, ConstantAccelerationIsSetNotSummedAndSkipsStatic) {
+    PhysicsEngine e;
+    e.add(sphere("light", 0.5, 0.1));
+    e.add(box("heavy", {1.0, 1.0, 1.0}, 1000.0));
+    e.add(box("wall", {1.0, 1.0, 1.0}, 1.0).makeStatic());
+    for (int i = 0; i < 3; ++i) e.updateConstantAcceleration();
+    EXPECT_EQ(e.body("light").acceleration, e.gravity());
+    EXPECT_EQ(e.body("heavy").acceleration, e.gravity());
+    EXPECT_EQ(e.body("wall").acceleration, Vec3::Zero());
+    e.setGravity(Vec3(0.0, -1.62, 0.0));
+    e.updateConstantAcceleration();
+    EXPECT_EQ(e.body("light").acceleration, Vec3(0.0, -1.62, 0.0));
+}
+
+TEST(Engine, StagesAreRequiredAndEnabled) {
+    PhysicsEngine e;
+    e.setRequiredStages({Stage::Integration});
+    EXPECT_FALSE(e.stageActive(Stage::ConstantAcceleration));
+    e.setRequiredStages({Stage::Integration, Stage::ConstantAcceleration});
+    e.setStageEnabled(Stage::ConstantAcceleration, false);
+    EXPECT_FALSE(e.stageActive(Stage::ConstantAcceleration));
+    e.setStageEnabled(Stage::ConstantAcceleration, true);
+    EXPECT_TRUE(e.stageActive(Stage::ConstantAcceleration));
+    EXPECT_EQ(e.requiredStages().names(), "gravity, integrate");
+}
+
+TEST(Engine, WorldDiagnosticsSumTheBodies) {
+    PhysicsEngine e;
+    e.add(sphere("a", 0.5, 2.0).at({0.0, 1.0, 0.0}).moving({3.0, 0.0, 0.0}));
+    e.add(sphere("b", 0.5, 1.0).at({0.0, 2.0, 0.0}).moving({0.0, -4.0, 0.0}));
+    e.add(plane("floor", Vec3::UnitY()));
+    EXPECT_DOUBLE_EQ(e.kineticEnergy(), 0.5 * 2.0 * 9.0 + 0.5 * 1.0 * 16.0);
+    EXPECT_DOUBLE_EQ(e.potentialEnergy(), 2.0 * 9.81 * 1.0 + 1.0 * 9.81 * 2.0);
+    EXPECT_DOUBLE_EQ(e.totalEnergy(), e.kineticEnergy() + e.potentialEnergy());
+    EXPECT_TRUE(e.linearMomentum().isApprox(Vec3(6.0, -4.0, 0.0)));
+}
+
+TEST(Engine, StepAdvancesTimeAndCatchesNonFiniteState) {
+    PhysicsEngine e;
+    e.setTimeStep(0.05);
+    e.add(sphere("ball", 0.5, 1.0));
+    e.step();
+    e.step();
+    EXPECT_EQ(e.stepCount(), 2u);
+    EXPECT_NEAR(e.time(), 0.1, 1e-15);
+    e.bodies()[0].velocity.x() = std::numeric_limits<double>::quiet_NaN();
+    try {
+        e.step();
+        FAIL() << "no SimulationError";
+    } catch (const SimulationError& error) {
+        EXPECT_NE(std::string(error.what()).find("ball"), std::string::npos) << error.what();
+    }
+}
+
+TEST(Engine, NotImplementedIsRecordedOncePerHook) {
+    PhysicsEngine e;
+    e.notImplemented("integrator()");
+    e.notImplemented("integrator()");
+    e.notImplemented("simulationTimestep()");
+    EXPECT_EQ(e.missingHooks().size(), 2u);
+    EXPECT_EQ(e.missingHooks().count("integrator()"), 1u);
+}
+
+}  // namespace
+}  // namespace gpl
