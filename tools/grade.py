@@ -75,6 +75,7 @@ def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None):
         kill("timeout")
         proc.wait()
     thread.join(timeout=5)
+    proc.stdout.close()
     return proc.returncode, b"".join(chunks).decode("utf-8", "replace"), why[0]
 
 
@@ -96,7 +97,9 @@ def _failure_messages(report):
                 text = failure.get("failure", "")
                 first, _, rest = text.partition("\n")
                 # GoogleTest starts each failure with "file:line"; the student needs the message.
-                messages.append(rest if rest and ":" in first and first.split(":")[-1].isdigit() else text)
+                text = rest if rest and ":" in first and first.split(":")[-1].isdigit() else text
+                # ADD_FAILURE() and FAIL() add a bare "Failed" line before the message.
+                messages.append(text[len("Failed\n"):] if text.startswith("Failed\n") else text)
     return messages
 
 
@@ -304,6 +307,8 @@ def cmd_grade(args):
         label = variant
         target, build = f"autograder_{variant}", build_dir
     ok, log = cmake_build(build, target)
+    if args.submission:
+        log = log.replace(str(hooks_dir), str(pathlib.Path(args.submission)))
     if not ok:
         if args.submission is None and args.solutions:
             raise GradeError("the reference solutions do not build:\n" + first_errors(log))
