@@ -141,12 +141,14 @@ GRADED_TEST(Worksheet1, GravityAppliedBeforeIntegrating, 2,
     const double h = engine.timeStep();
     engine.step();
     const Vec3 first = engine.body("ball").velocity;
-    EXPECT_CLOSE(first, h * engine.gravity(), kOneStepTol, "velocity after the first step")
-        << (first.isZero() ? "\n  the first step did not accelerate the ball: gravity comes after the integrator?"
-                           : "");
     steps(9);
-    EXPECT_CLOSE(engine.body("ball").velocity, 10.0 * h * engine.gravity(), kOneStepTol,
-                     "velocity after ten steps");
+    const Vec3 tenth = engine.body("ball").velocity;
+    const bool late = first.isZero() && (tenth - 9.0 * h * engine.gravity()).norm() < 1e-9;
+    EXPECT_CLOSE(first, h * engine.gravity(), kOneStepTol, "velocity after the first step")
+        << (late ? "\n  the first step did not accelerate the ball, the later ones did: gravity is applied after "
+                   "the integrator"
+                 : "");
+    EXPECT_CLOSE(tenth, 10.0 * h * engine.gravity(), kOneStepTol, "velocity after ten steps");
 }
 
 GRADED_TEST(Worksheet1, AccelerationResetEachStep, 2,

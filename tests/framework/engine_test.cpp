@@ -82,6 +82,8 @@ TEST(Engine, StepAdvancesTimeAndCatchesNonFiniteState) {
     e.step();
     EXPECT_EQ(e.stepCount(), 2u);
     EXPECT_NEAR(e.time(), 0.1, 1e-15);
+    // No stages, so that the reference integrator's own assertions (Debug builds) stay out of it.
+    e.setRequiredStages({});
     e.bodies()[0].velocity.x() = std::numeric_limits<double>::quiet_NaN();
     try {
         e.step();

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <sstream>
 
 #include "gpl/runner.h"
@@ -90,6 +91,7 @@ TEST(Runner, WritesOneRowPerBodyAndStepPlusWorld) {
 TEST(Runner, ReportsANonFiniteStateInsteadOfThrowing) {
     PhysicsEngine e;
     e.add(sphere("ball", 0.5, 1.0));
+    e.setRequiredStages({});  // keeps the reference integrator's assertions (Debug builds) out of it
     e.bodies()[0].velocity.y() = std::numeric_limits<double>::infinity();
     const RunSummary s = run(e, 5, nullptr);
     EXPECT_EQ(s.steps, 0u);
