@@ -14,8 +14,9 @@ void myScene(PhysicsEngine& e) {
 }  // namespace
 
 void addStudentScenes(SceneRegistry& r) {
-    r.add({"my-scene", "F11", "Your own scene: edit assignments/student_scenes.cpp.", 0,
-           {Stage::ConstantAcceleration, Stage::Integration}, kDefaultTimeStep, myScene});
+    const StageSet stages{Stage::ConstantAcceleration, Stage::Integration};
+    r.add({"my-scene", "F11", "Your own scene: edit assignments/student_scenes.cpp.", 0, stages, kDefaultTimeStep,
+           myScene});
 }
 
 }  // namespace gpl

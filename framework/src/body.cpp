@@ -29,18 +29,36 @@ Body movable(const std::string& name, Shape shape, double mass, const Mat3& iner
 
 const char* shapeName(Shape shape) {
     switch (shape) {
-        case Shape::Sphere: return "sphere";
-        case Shape::Box: return "box";
-        case Shape::Plane: return "plane";
+        case Shape::Sphere:
+            return "sphere";
+        case Shape::Box:
+            return "box";
+        case Shape::Plane:
+            return "plane";
     }
     return "unknown";
 }
 
-Body& Body::at(const Vec3& p) { position = p; return *this; }
-Body& Body::moving(const Vec3& v) { velocity = v; return *this; }
-Body& Body::spinning(const Vec3& w) { angularVelocity = w; return *this; }
-Body& Body::rotated(const Quat& q) { orientation = q.normalized(); return *this; }
-Body& Body::bouncy(double e) { restitution = e; return *this; }
+Body& Body::at(const Vec3& p) {
+    position = p;
+    return *this;
+}
+Body& Body::moving(const Vec3& v) {
+    velocity = v;
+    return *this;
+}
+Body& Body::spinning(const Vec3& w) {
+    angularVelocity = w;
+    return *this;
+}
+Body& Body::rotated(const Quat& q) {
+    orientation = q.normalized();
+    return *this;
+}
+Body& Body::bouncy(double e) {
+    restitution = e;
+    return *this;
+}
 
 Body& Body::makeStatic() {
     mass = std::numeric_limits<double>::infinity();
@@ -82,9 +100,7 @@ Body plane(const std::string& name, const Vec3& normal) {
 }
 
 void validate(const Body& b) {
-    const auto fail = [&](const std::string& what) {
-        throw std::invalid_argument("body '" + b.name + "': " + what);
-    };
+    const auto fail = [&](const std::string& what) { throw std::invalid_argument("body '" + b.name + "': " + what); };
     if (!isFinite(b.position)) fail("position is not finite");
     if (!isFinite(b.velocity)) fail("velocity is not finite");
     if (!isFinite(b.angularVelocity)) fail("angular velocity is not finite");

@@ -24,9 +24,7 @@ Body& PhysicsEngine::body(const std::string& name) {
     throw std::out_of_range("no body named '" + name + "'");
 }
 
-const Body& PhysicsEngine::body(const std::string& name) const {
-    return const_cast<PhysicsEngine*>(this)->body(name);
-}
+const Body& PhysicsEngine::body(const std::string& name) const { return const_cast<PhysicsEngine*>(this)->body(name); }
 
 void PhysicsEngine::clear() {
     bodies_.clear();

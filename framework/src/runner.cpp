@@ -68,8 +68,10 @@ std::string describe(const RunSummary& s, const PhysicsEngine& e) {
     const double drift = s.finalEnergy - s.initialEnergy;
     out << "total energy: " << s.initialEnergy << " J -> " << s.finalEnergy << " J (drift " << std::showpos << drift
         << std::noshowpos << " J";
-    if (s.initialEnergy != 0.0) out << ", " << std::showpos << 100.0 * drift / std::abs(s.initialEnergy) << std::noshowpos << " %";
-    if (s.steps > 0) out << ", " << std::showpos << drift / static_cast<double>(s.steps) << std::noshowpos << " J per step";
+    if (s.initialEnergy != 0.0)
+        out << ", " << std::showpos << 100.0 * drift / std::abs(s.initialEnergy) << std::noshowpos << " %";
+    if (s.steps > 0)
+        out << ", " << std::showpos << drift / static_cast<double>(s.steps) << std::noshowpos << " J per step";
     out << ")\n";
     if (s.maxEnergyIncrease > 0.0) {
         out << "largest energy increase in one step: " << s.maxEnergyIncrease << " J\n";

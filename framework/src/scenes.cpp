@@ -13,8 +13,8 @@ std::string upper(std::string s) {
 }
 
 bool validKey(const std::string& key) {
-    static const std::vector<std::string> keys = {"1",  "2",  "3",  "4",  "5",  "6",  "7",   "8",   "9",   "0",  "F1",
-                                                  "F2", "F3", "F4", "F5", "F6", "F7", "F8",  "F9",  "F10", "F11", "F12"};
+    static const std::vector<std::string> keys = {"1",  "2",  "3",  "4",  "5",  "6",  "7",  "8",  "9",   "0",   "F1",
+                                                  "F2", "F3", "F4", "F5", "F6", "F7", "F8", "F9", "F10", "F11", "F12"};
     return std::find(keys.begin(), keys.end(), key) != keys.end();
 }
 
@@ -23,6 +23,11 @@ bool validKey(const std::string& key) {
 void SceneRegistry::add(Scene scene) {
     scene.key = upper(scene.key);
     if (!validKey(scene.key)) throw std::invalid_argument("scene '" + scene.name + "': key must be 0-9 or F1-F12");
+    const bool studentKey = scene.key == "F11" || scene.key == "F12";
+    if (studentKey != (scene.worksheet == 0)) {
+        throw std::invalid_argument("scene '" + scene.name + "': F11 and F12 are for the student's own scenes " +
+                                    "(worksheet 0), the other keys for the course's");
+    }
     for (const Scene& s : scenes_) {
         if (s.name == scene.name) throw std::invalid_argument("two scenes are named '" + scene.name + "'");
         if (s.key == scene.key) {

@@ -9,9 +9,7 @@ namespace {
 
 const StageSet kFreeFall{Stage::ConstantAcceleration, Stage::Integration};
 
-void fallingSphere(PhysicsEngine& e) {
-    e.add(sphere("ball", 0.5, 1.0).at({0.0, 10.0, 0.0}));
-}
+void fallingSphere(PhysicsEngine& e) { e.add(sphere("ball", 0.5, 1.0).at({0.0, 10.0, 0.0})); }
 
 // Masses over four orders of magnitude, spheres and boxes: all fall alike.
 void massesSideBySide(PhysicsEngine& e) {
@@ -53,8 +51,8 @@ void addWorksheet1Scenes(SceneRegistry& r) {
            kDefaultTimeStep, fallingSphere});
     r.add({"masses", "2", "Spheres and boxes from 0.1 kg to 1000 kg dropped side by side: all fall alike.", 1,
            kFreeFall, kDefaultTimeStep, massesSideBySide});
-    r.add({"projectile", "3", "A ball thrown at 45 degrees with 15 m/s: a parabola.", 1, kFreeFall,
-           kDefaultTimeStep, projectile});
+    r.add({"projectile", "3", "A ball thrown at 45 degrees with 15 m/s: a parabola.", 1, kFreeFall, kDefaultTimeStep,
+           projectile});
     r.add({"static-and-movable", "4", "A floor, a shelf and a pillar that stay put, and three bodies that fall.", 1,
            kFreeFall, kDefaultTimeStep, staticAndMovable});
 }

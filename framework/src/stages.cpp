@@ -4,9 +4,12 @@ namespace gpl {
 
 const char* stageName(Stage stage) {
     switch (stage) {
-        case Stage::ConstantAcceleration: return "gravity";
-        case Stage::Integration: return "integrate";
-        case Stage::Count: break;
+        case Stage::ConstantAcceleration:
+            return "gravity";
+        case Stage::Integration:
+            return "integrate";
+        case Stage::Count:
+            break;
     }
     return "unknown";
 }

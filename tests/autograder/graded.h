@@ -24,7 +24,7 @@ const std::vector<GradedTest>& gradedTests();
 }  // namespace gpl::grading
 
 /// GRADED_TEST(Worksheet1, Name, points, "hint") { ... } is a TEST_F of the fixture Worksheet1.
-#define GRADED_TEST(Fixture, Name, Points, Hint)                                                          \
-    [[maybe_unused]] static const bool gpl_graded_##Fixture##_##Name =                                   \
-        ::gpl::grading::registerTest(#Fixture, #Name, Points, Hint);                                     \
+#define GRADED_TEST(Fixture, Name, Points, Hint)                       \
+    [[maybe_unused]] static const bool gpl_graded_##Fixture##_##Name = \
+        ::gpl::grading::registerTest(#Fixture, #Name, Points, Hint);   \
     TEST_F(Fixture, Name)

@@ -29,7 +29,7 @@ std::string str(const Vec3& v) {
 }
 
 // Fails with near()'s message alone; further text can be streamed after it.
-#define EXPECT_CLOSE(actual, expected, relTol, what)                                      \
+#define EXPECT_CLOSE(actual, expected, relTol, what)                                       \
     if (const ::testing::AssertionResult gpl_close = near(actual, expected, relTol, what)) \
         ;                                                                                  \
     else                                                                                   \
@@ -92,7 +92,8 @@ GRADED_TEST(Worksheet1, GravityIndependentOfMass, 2,
     const double h = engine.timeStep();
     engine.step();
     for (const Body& b : engine.bodies()) {
-        EXPECT_CLOSE(b.velocity, h * engine.gravity(), kOneStepTol, "velocity of " + b.name + " (" + std::to_string(b.mass) + " kg)");
+        EXPECT_CLOSE(b.velocity, h * engine.gravity(), kOneStepTol,
+                     "velocity of " + b.name + " (" + std::to_string(b.mass) + " kg)");
     }
 }
 
@@ -243,11 +244,12 @@ GRADED_TEST(Worksheet1, EnergyNeverIncreases, 3,
         load(engine, *scene);
         const std::vector<Body> start = engine.bodies();
         double previous = engine.totalEnergy();
-        for (int i = 1; i <= 2000; ++i) {
+        for (int i = 1; i <= 10000; ++i) {
             engine.step();
             const double energy = engine.totalEnergy();
             // Rounding in the energy sums is a few ulps of the largest term; 1e-12 of the terms'
-            // magnitude is far below the smallest genuine increase (m g^2 h^2 / 2 ~ 5e-4 J here).
+            // magnitude (at most ~1e6 J after 100 s of fall) is far below the smallest genuine
+            // increase, m g^2 h^2 / 2 = 5e-4 J for the lightest body at h = 0.01 s.
             const double scale = engine.kineticEnergy() + std::abs(engine.potentialEnergy()) + 1.0;
             ASSERT_LE(energy, previous + 1e-12 * scale)
                 << "scene '" << scene->name << "': total energy rose by " << energy - previous << " J in step " << i;

@@ -1,9 +1,9 @@
+#include "gpl/body.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
-
-#include "gpl/body.h"
 
 namespace gpl {
 namespace {

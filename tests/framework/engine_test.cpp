@@ -1,9 +1,9 @@
+#include "gpl/engine.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
-
-#include "gpl/engine.h"
 
 namespace gpl {
 namespace {

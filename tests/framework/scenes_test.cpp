@@ -1,10 +1,11 @@
+#include "gpl/scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <limits>
 #include <sstream>
 
 #include "gpl/runner.h"
-#include "gpl/scenes.h"
 
 namespace gpl {
 namespace {
@@ -59,6 +60,16 @@ TEST(Scenes, RegistryRejectsDuplicatesAndBadKeys) {
     EXPECT_THROW(r.add({"a", "2", "same name", 1, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);
     EXPECT_THROW(r.add({"b", "1", "same key", 1, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);
     EXPECT_THROW(r.add({"c", "F13", "no such key", 1, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);
+}
+
+TEST(Scenes, F11AndF12AreTheStudentsOwn) {
+    SceneRegistry r;
+    EXPECT_THROW(r.add({"course", "F11", "a course scene", 1, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);
+    EXPECT_THROW(r.add({"mine", "5", "a student scene", 0, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);
+    EXPECT_NO_THROW(r.add({"mine", "F12", "a student scene", 0, {}, kDefaultTimeStep, nullptr}));
+    for (const Scene& s : scenes().all()) {
+        EXPECT_EQ(s.worksheet == 0, s.key == "F11" || s.key == "F12") << s.name;
+    }
 }
 
 TEST(Scenes, LoadResetsTheEngine) {

@@ -18,17 +18,17 @@ struct Body {
     Shape shape = Shape::Sphere;
 
     // Geometry, in the body's own frame.
-    double radius = 0.0;                ///< sphere radius (m)
-    Vec3 halfExtents = Vec3::Zero();    ///< box half sizes along the body axes (m)
-    Vec3 normal = Vec3::UnitY();        ///< plane normal (unit, body frame); the plane passes through position
+    double radius = 0.0;              ///< sphere radius (m)
+    Vec3 halfExtents = Vec3::Zero();  ///< box half sizes along the body axes (m)
+    Vec3 normal = Vec3::UnitY();      ///< plane normal (unit, body frame); the plane passes through position
 
     // Pose.
-    Vec3 position = Vec3::Zero();       ///< centre of mass in world coordinates (m)
-    Quat orientation = Quat::Identity(); ///< rotation from body to world frame (unit quaternion)
+    Vec3 position = Vec3::Zero();         ///< centre of mass in world coordinates (m)
+    Quat orientation = Quat::Identity();  ///< rotation from body to world frame (unit quaternion)
 
     // Velocity.
-    Vec3 velocity = Vec3::Zero();        ///< linear velocity of the centre of mass, world frame (m/s)
-    Vec3 angularVelocity = Vec3::Zero(); ///< angular velocity, world frame (rad/s)
+    Vec3 velocity = Vec3::Zero();         ///< linear velocity of the centre of mass, world frame (m/s)
+    Vec3 angularVelocity = Vec3::Zero();  ///< angular velocity, world frame (rad/s)
 
     // Mass properties. A static body has invMass 0, infinite mass and a zero inverse inertia.
     double mass = 1.0;                   ///< kg
@@ -37,13 +37,13 @@ struct Body {
     Mat3 invInertia = Mat3::Identity();  ///< its inverse (1/(kg m^2)); zero for static bodies
 
     // Material.
-    double restitution = 0.5;            ///< coefficient of restitution, 0 (plastic) .. 1 (elastic)
-    double friction = 0.5;               ///< Coulomb friction coefficient (dimensionless)
+    double restitution = 0.5;  ///< coefficient of restitution, 0 (plastic) .. 1 (elastic)
+    double friction = 0.5;     ///< Coulomb friction coefficient (dimensionless)
 
     // Accumulators, rebuilt every time step by the force stages.
-    Vec3 acceleration = Vec3::Zero();    ///< constant acceleration such as gravity (m/s^2)
-    Vec3 force = Vec3::Zero();           ///< sum of applied forces (N)
-    Vec3 torque = Vec3::Zero();          ///< sum of applied torques about the centre of mass (N m)
+    Vec3 acceleration = Vec3::Zero();  ///< constant acceleration such as gravity (m/s^2)
+    Vec3 force = Vec3::Zero();         ///< sum of applied forces (N)
+    Vec3 torque = Vec3::Zero();        ///< sum of applied torques about the centre of mass (N m)
 
     bool isStatic() const { return invMass == 0.0; }
 
@@ -70,8 +70,8 @@ Body plane(const std::string& name, const Vec3& normal);
 void validate(const Body& body);
 
 // Diagnostics per body (static bodies have no kinetic or potential energy and no momentum).
-double kineticEnergy(const Body& body);                        ///< J, translational + rotational
-double potentialEnergy(const Body& body, const Vec3& gravity); ///< J, -m g.x (zero at the origin)
-Vec3 linearMomentum(const Body& body);                         ///< kg m/s
+double kineticEnergy(const Body& body);                         ///< J, translational + rotational
+double potentialEnergy(const Body& body, const Vec3& gravity);  ///< J, -m g.x (zero at the origin)
+Vec3 linearMomentum(const Body& body);                          ///< kg m/s
 
 }  // namespace gpl

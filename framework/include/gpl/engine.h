@@ -46,9 +46,9 @@ public:
 
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }
-    void setGravity(const Vec3& g);          ///< throws std::invalid_argument when not finite
+    void setGravity(const Vec3& g);  ///< throws std::invalid_argument when not finite
     double timeStep() const { return timeStep_; }
-    void setTimeStep(double h);              ///< s; throws std::invalid_argument unless finite and > 0
+    void setTimeStep(double h);  ///< s; throws std::invalid_argument unless finite and > 0
     /// Stages the loaded scene requires; the step runs only stages that are required and enabled.
     const StageSet& requiredStages() const { return required_; }
     void setRequiredStages(const StageSet& stages) { required_ = stages; }
@@ -61,7 +61,7 @@ public:
     /// One time step: runs simulationTimestep(), advances the clock and checks that every body is
     /// still finite (throws SimulationError naming the body and the step otherwise).
     void step();
-    double time() const { return time_; }              ///< simulated time (s)
+    double time() const { return time_; }  ///< simulated time (s)
     std::size_t stepCount() const { return steps_; }
 
     // ---- Hooks (worksheet 1) ------------------------------------------------------------------

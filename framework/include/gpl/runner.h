@@ -11,13 +11,13 @@
 namespace gpl {
 
 struct RunSummary {
-    std::size_t steps = 0;          ///< steps taken
-    double simulatedTime = 0.0;     ///< s
-    double initialEnergy = 0.0;     ///< J
-    double finalEnergy = 0.0;       ///< J
-    double maxEnergyIncrease = 0.0; ///< largest increase of the total energy over one step (J), 0 if none
-    double maxSpeed = 0.0;          ///< largest speed of any body at the end (m/s)
-    std::string error;              ///< empty, or why the run stopped early (a non-finite state)
+    std::size_t steps = 0;           ///< steps taken
+    double simulatedTime = 0.0;      ///< s
+    double initialEnergy = 0.0;      ///< J
+    double finalEnergy = 0.0;        ///< J
+    double maxEnergyIncrease = 0.0;  ///< largest increase of the total energy over one step (J), 0 if none
+    double maxSpeed = 0.0;           ///< largest speed of any body at the end (m/s)
+    std::string error;               ///< empty, or why the run stopped early (a non-finite state)
 };
 
 /// The CSV header written by run(): step,time,body,x,y,z,vx,vy,vz,kinetic,potential,total.

@@ -12,13 +12,13 @@
 namespace gpl {
 
 struct Scene {
-    std::string name;         ///< e.g. "falling-sphere"; used on the command line
-    std::string key;          ///< "1".."9", "0", "F1".."F12"
-    std::string description;  ///< one sentence: what to look at
-    int worksheet = 0;        ///< the worksheet the scene belongs to (0: the student's own)
-    StageSet stages;          ///< the stages the scene requires
-    double timeStep = kDefaultTimeStep;        ///< s
-    std::function<void(PhysicsEngine&)> build; ///< adds the bodies
+    std::string name;                           ///< e.g. "falling-sphere"; used on the command line
+    std::string key;                            ///< "1".."9", "0", "F1".."F12"
+    std::string description;                    ///< one sentence: what to look at
+    int worksheet = 0;                          ///< the worksheet the scene belongs to (0: the student's own)
+    StageSet stages;                            ///< the stages the scene requires
+    double timeStep = kDefaultTimeStep;         ///< s
+    std::function<void(PhysicsEngine&)> build;  ///< adds the bodies
 };
 
 class SceneRegistry {
