@@ -10,7 +10,7 @@ namespace {
 void requirePositive(const std::string& name, const char* what, double value) {
     if (!std::isfinite(value) || value <= 0.0) {
         throw std::invalid_argument("body '" + name + "': " + what + " must be a positive finite number, got " +
-                                    std::to_string(value));
+                                    formatNumber(value));
     }
 }
 

@@ -39,7 +39,7 @@ void PhysicsEngine::setGravity(const Vec3& g) {
 
 void PhysicsEngine::setTimeStep(double h) {
     if (!std::isfinite(h) || h <= 0.0) {
-        throw std::invalid_argument("time step must be a positive finite number of seconds, got " + std::to_string(h));
+        throw std::invalid_argument("time step must be a positive finite number of seconds, got " + formatNumber(h));
     }
     timeStep_ = h;
 }
@@ -59,7 +59,7 @@ void PhysicsEngine::step() {
     for (const Body& b : bodies_) {
         if (!isFinite(b.position) || !isFinite(b.velocity)) {
             throw SimulationError("body '" + b.name + "' is no longer finite after step " + std::to_string(steps_) +
-                                  " (t = " + std::to_string(time_) + " s): check integrator()");
+                                  " (t = " + formatNumber(time_) + " s): check integrator()");
         }
     }
 }
