@@ -26,6 +26,17 @@ Body& PhysicsEngine::body(const std::string& name) {
 
 const Body& PhysicsEngine::body(const std::string& name) const { return const_cast<PhysicsEngine*>(this)->body(name); }
 
+void PhysicsEngine::remove(std::size_t index) {
+    if (index >= bodies_.size()) throw std::out_of_range("no body number " + std::to_string(index));
+    bodies_.erase(bodies_.begin() + static_cast<std::ptrdiff_t>(index));
+}
+
+void PhysicsEngine::restore(const State& s) {
+    bodies_ = s.bodies;
+    time_ = s.time;
+    steps_ = s.steps;
+}
+
 void PhysicsEngine::clear() {
     bodies_.clear();
     time_ = 0.0;

@@ -44,6 +44,27 @@ void staticAndMovable(PhysicsEngine& e) {
     e.add(sphere("pebble", 0.2, 0.1).at({3.0, 9.0, 0.0}).moving({-0.5, 2.0, 0.0}));
 }
 
+// A lattice of 1000 spheres and boxes with small sideways velocities: what the viewer draws at
+// 60 frames per second, and a free fall that must look the same for every body.
+void thousandBodies(PhysicsEngine& e) {
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    int n = 0;
+    for (int i = 0; i < 10; ++i) {
+        for (int j = 0; j < 10; ++j) {
+            for (int k = 0; k < 10; ++k, ++n) {
+                const Vec3 at(2.0 * i - 9.0, 5.0 + 2.0 * j, 2.0 * k - 9.0);
+                const Vec3 v(0.3 * ((n * 7) % 11 - 5), 0.5 * ((n * 3) % 7), 0.3 * ((n * 5) % 9 - 4));
+                const std::string name = (n % 2 ? "box-" : "sphere-") + std::to_string(n);
+                if (n % 2) {
+                    e.add(box(name, {0.35, 0.35, 0.35}, 1.0 + n % 5).at(at).moving(v));
+                } else {
+                    e.add(sphere(name, 0.4, 1.0 + n % 5).at(at).moving(v));
+                }
+            }
+        }
+    }
+}
+
 }  // namespace
 
 void addWorksheet1Scenes(SceneRegistry& r) {
@@ -55,6 +76,8 @@ void addWorksheet1Scenes(SceneRegistry& r) {
            projectile});
     r.add({"static-and-movable", "4", "A floor, a shelf and a pillar that stay put, and three bodies that fall.", 1,
            kFreeFall, kDefaultTimeStep, staticAndMovable});
+    r.add({"thousand-bodies", "0", "1000 spheres and boxes in free fall (no collisions yet): a load for the viewer.",
+           1, kFreeFall, kDefaultTimeStep, thousandBodies});
 }
 
 }  // namespace gpl

@@ -93,6 +93,23 @@ TEST(Engine, StepAdvancesTimeAndCatchesNonFiniteState) {
     }
 }
 
+TEST(Engine, StateRoundTripsAndBodiesCanBeRemoved) {
+    PhysicsEngine e;
+    e.add(sphere("a", 0.5, 1.0).at({0.0, 5.0, 0.0}));
+    e.add(sphere("b", 0.5, 1.0).at({2.0, 5.0, 0.0}));
+    const PhysicsEngine::State start = e.state();
+    for (int i = 0; i < 10; ++i) e.step();
+    ASSERT_NE(e.body("a").position, start.bodies[0].position);
+    e.restore(start);
+    EXPECT_EQ(e.body("a").position, start.bodies[0].position);
+    EXPECT_EQ(e.stepCount(), 0u);
+    EXPECT_EQ(e.time(), 0.0);
+    e.remove(0);
+    EXPECT_EQ(e.bodies().size(), 1u);
+    EXPECT_EQ(e.bodies()[0].name, "b");
+    EXPECT_THROW(e.remove(5), std::out_of_range);
+}
+
 TEST(Engine, NotImplementedIsRecordedOncePerHook) {
     PhysicsEngine e;
     e.notImplemented("integrator()");

@@ -41,8 +41,19 @@ public:
     /// The body with this name; throws std::out_of_range when there is none.
     Body& body(const std::string& name);
     const Body& body(const std::string& name) const;
+    /// Removes the body at this index (throws std::out_of_range when there is none).
+    void remove(std::size_t index);
     /// Removes every body and resets time and the step counter.
     void clear();
+
+    /// The whole dynamic state: bodies, time and step counter (for history and replays).
+    struct State {
+        std::vector<Body> bodies;
+        double time = 0.0;
+        std::size_t steps = 0;
+    };
+    State state() const { return {bodies_, time_, steps_}; }
+    void restore(const State& s);
 
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }

@@ -1,0 +1,292 @@
+#include "renderer.h"
+
+#include <GL/gl.h>
+#include <GL/glu.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace gpl::viewer {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+const float kSky[4] = {0.80f, 0.85f, 0.90f, 1.0f};
+
+void colourOf(const Body& b, std::size_t index, std::uint8_t out[4]) {
+    static const std::uint8_t palette[][3] = {{242, 140, 51}, {51, 166, 178}, {217, 77, 77},
+                                              {102, 184, 89}, {153, 115, 204}, {235, 199, 64}};
+    static const std::uint8_t grey[3] = {140, 148, 160};
+    const std::uint8_t* c = b.isStatic() ? grey : palette[index % 6];
+    out[0] = c[0], out[1] = c[1], out[2] = c[2], out[3] = 255;
+}
+
+Renderer::Mesh sphereMesh(int slices, int stacks) {
+    Renderer::Mesh m;
+    for (int i = 0; i <= stacks; ++i) {
+        for (int j = 0; j <= slices; ++j) {
+            const double a = kPi * (-0.5 + double(i) / stacks), b = 2.0 * kPi * j / slices;
+            const Vec3 v(std::cos(a) * std::cos(b), std::sin(a), -std::cos(a) * std::sin(b));
+            m.vertices.push_back(v);
+            m.normals.push_back(v);
+        }
+    }
+    const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * (slices + 1) + j); };
+    for (int i = 0; i < stacks; ++i) {
+        for (int j = 0; j < slices; ++j) {
+            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+            if (i + 1 < stacks) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+        }
+    }
+    return m;
+}
+
+// The cube [-1, 1]^3: four vertices per face with the face's normal, counter-clockwise from outside.
+Renderer::Mesh cubeMesh() {
+    Renderer::Mesh m;
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int sign : {-1, 1}) {
+            Vec3 n = Vec3::Zero();
+            n[axis] = sign;
+            Vec3 u = Vec3::Unit((axis + 1) % 3), v = Vec3::Unit((axis + 2) % 3);
+            if (sign < 0) std::swap(u, v);
+            const auto base = static_cast<std::uint32_t>(m.vertices.size());
+            for (const Vec3& c : {Vec3(n - u - v), Vec3(n + u - v), Vec3(n + u + v), Vec3(n - u + v)}) {
+                m.vertices.push_back(c);
+                m.normals.push_back(n);
+            }
+            for (std::uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + k);
+        }
+    }
+    return m;
+}
+
+Renderer::Mesh discMesh(int segments) {
+    Renderer::Mesh m;
+    m.vertices.push_back(Vec3::Zero());
+    for (int j = 0; j < segments; ++j) {
+        const double a = 2.0 * kPi * j / segments;
+        m.vertices.emplace_back(std::cos(a), 0.0, -std::sin(a));
+        m.indices.insert(m.indices.end(), {0u, std::uint32_t(1 + j), std::uint32_t(1 + (j + 1) % segments)});
+    }
+    m.normals.assign(m.vertices.size(), Vec3::UnitY());
+    return m;
+}
+
+// Height of the ground: the highest upward-facing plane, or 0 when the scene has none.
+double groundHeight(const std::vector<Body>& bodies) {
+    bool found = false;
+    double y = 0.0;
+    for (const Body& b : bodies) {
+        if (b.shape != Shape::Plane || (b.orientation * b.normal).y() < 0.99) continue;
+        y = found ? std::max(y, b.position.y()) : b.position.y();
+        found = true;
+    }
+    return y;
+}
+
+}  // namespace
+
+std::uint32_t Renderer::Batch::add(const Vec3& p, const Vec3& n, const std::uint8_t rgba[4]) {
+    positions.insert(positions.end(), {float(p.x()), float(p.y()), float(p.z())});
+    normals.insert(normals.end(), {float(n.x()), float(n.y()), float(n.z())});
+    colours.insert(colours.end(), rgba, rgba + 4);
+    return static_cast<std::uint32_t>(positions.size() / 3 - 1);
+}
+
+void Renderer::Batch::draw(unsigned mode) const {
+    if (positions.empty()) return;
+    glEnableClientState(GL_VERTEX_ARRAY);
+    glEnableClientState(GL_NORMAL_ARRAY);
+    glEnableClientState(GL_COLOR_ARRAY);
+    glVertexPointer(3, GL_FLOAT, 0, positions.data());
+    glNormalPointer(GL_FLOAT, 0, normals.data());
+    glColorPointer(4, GL_UNSIGNED_BYTE, 0, colours.data());
+    if (indices.empty()) {
+        glDrawArrays(mode, 0, static_cast<GLsizei>(positions.size() / 3));
+    } else {
+        glDrawElements(mode, static_cast<GLsizei>(indices.size()), GL_UNSIGNED_INT, indices.data());
+    }
+    glDisableClientState(GL_COLOR_ARRAY);
+    glDisableClientState(GL_NORMAL_ARRAY);
+    glDisableClientState(GL_VERTEX_ARRAY);
+}
+
+Renderer::Renderer()
+    : sphere_{sphereMesh(32, 20), sphereMesh(14, 9), sphereMesh(8, 6)}, cube_(cubeMesh()), disc_(discMesh(16)) {}
+
+void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], const Camera& camera,
+                      int height) const {
+    if (b.shape == Shape::Sphere) {
+        // Level of detail from the radius on screen (pixels); a sphere looks the same turned.
+        const double depth = std::max(0.1, (b.position - camera.eye()).dot(camera.forward()));
+        const double pixels = b.radius / depth * height / (2.0 * std::tan(Camera::kFieldOfViewY * kPi / 360.0));
+        const Mesh& m = sphere_[pixels > 60 ? 0 : pixels > 15 ? 1 : 2];
+        const auto base = static_cast<std::uint32_t>(batch.positions.size() / 3);
+        for (const Vec3& v : m.vertices) batch.add(b.position + b.radius * v, v, rgba);
+        for (std::uint32_t i : m.indices) batch.indices.push_back(base + i);
+    } else if (b.shape == Shape::Box) {
+        const Mat3 r = b.orientation.toRotationMatrix();
+        const auto base = static_cast<std::uint32_t>(batch.positions.size() / 3);
+        for (std::size_t k = 0; k < cube_.vertices.size(); ++k) {
+            batch.add(b.position + r * b.halfExtents.cwiseProduct(cube_.vertices[k]), r * cube_.normals[k], rgba);
+        }
+        for (std::uint32_t i : cube_.indices) batch.indices.push_back(base + i);
+    }
+}
+
+void Renderer::draw(const Session& session, const Camera& camera, int width, int height,
+                    std::optional<std::size_t> hovered) {
+    const auto& bodies = session.engine().bodies();
+    glViewport(0, 0, width, height);
+    glClearColor(kSky[0], kSky[1], kSky[2], kSky[3]);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    gluPerspective(Camera::kFieldOfViewY, double(width) / std::max(1, height), Camera::kNear, Camera::kFar);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadIdentity();
+    const Vec3 eye = camera.eye(), at = camera.target(), up = camera.up();
+    gluLookAt(eye.x(), eye.y(), eye.z(), at.x(), at.y(), at.z(), up.x(), up.y(), up.z());
+
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glEnable(GL_LIGHTING);
+    glEnable(GL_LIGHT0);
+    glEnable(GL_COLOR_MATERIAL);
+    glColorMaterial(GL_FRONT_AND_BACK, GL_AMBIENT_AND_DIFFUSE);
+    glShadeModel(GL_SMOOTH);
+    const float light[4] = {0.4f, 1.0f, 0.3f, 0.0f}, ambient[4] = {0.35f, 0.35f, 0.38f, 1.0f};
+    const float diffuse[4] = {0.75f, 0.75f, 0.72f, 1.0f};
+    glLightfv(GL_LIGHT0, GL_POSITION, light);
+    glLightModelfv(GL_LIGHT_MODEL_AMBIENT, ambient);
+    glLightfv(GL_LIGHT0, GL_DIFFUSE, diffuse);
+    // Fog: far things fade into the sky, a depth cue that costs nothing.
+    glEnable(GL_FOG);
+    glFogi(GL_FOG_MODE, GL_LINEAR);
+    glFogfv(GL_FOG_COLOR, kSky);
+    glFogf(GL_FOG_START, static_cast<float>(camera.distance() * 1.5));
+    glFogf(GL_FOG_END, static_cast<float>(camera.distance() * 5.0 + 60.0));
+
+    // Planes as checkered tiles (fog is computed per vertex, so a plane needs many vertices).
+    const double ground = groundHeight(bodies);
+    solid_.clear();
+    for (const Body& b : bodies) {
+        if (b.shape != Shape::Plane) continue;
+        const Vec3 n = (b.orientation * b.normal).normalized();
+        const Vec3 u = (std::abs(n.y()) < 0.9 ? n.cross(Vec3::UnitY()) : n.cross(Vec3::UnitX())).normalized();
+        const Vec3 v = n.cross(u);
+        const int tiles = 30;
+        const double tile = 4.0;  // m
+        for (int i = -tiles; i < tiles; ++i) {
+            for (int j = -tiles; j < tiles; ++j) {
+                const std::uint8_t shade = (i + j) % 2 ? 158 : 150;
+                const std::uint8_t rgba[4] = {shade, static_cast<std::uint8_t>(shade + 6), static_cast<std::uint8_t>(shade - 8), 255};
+                const Vec3 o = b.position + tile * (i * u + j * v);
+                const std::uint32_t first = solid_.add(o, n, rgba);
+                solid_.add(o + tile * u, n, rgba);
+                solid_.add(o + tile * (u + v), n, rgba);
+                solid_.add(o + tile * v, n, rgba);
+                for (std::uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) solid_.indices.push_back(first + k);
+            }
+        }
+    }
+    glDisable(GL_CULL_FACE);
+    solid_.draw(GL_TRIANGLES);
+    glEnable(GL_CULL_FACE);
+
+    // The grid: 1 m lines, every fifth darker.
+    glDisable(GL_LIGHTING);
+    lines_.clear();
+    for (int i = -30; i <= 30; ++i) {
+        const std::uint8_t s = i % 5 == 0 ? 100 : 135;
+        const std::uint8_t rgba[4] = {s, s, static_cast<std::uint8_t>(s + 8), 255};
+        const double y = ground + 0.003;
+        lines_.add(Vec3(i, y, -30), Vec3::UnitY(), rgba);
+        lines_.add(Vec3(i, y, 30), Vec3::UnitY(), rgba);
+        lines_.add(Vec3(-30, y, i), Vec3::UnitY(), rgba);
+        lines_.add(Vec3(30, y, i), Vec3::UnitY(), rgba);
+    }
+    lines_.draw(GL_LINES);
+
+    // Blob shadows under every body: discs for spheres, ellipses for boxes, paler when higher.
+    shadows_.clear();
+    for (const Body& b : bodies) {
+        const double above = b.position.y() - ground;
+        if (b.shape == Shape::Plane || above < 0.0 || above > 40.0) continue;
+        const Vec3 size = b.shape == Shape::Sphere ? Vec3::Constant(b.radius) : b.halfExtents;
+        const double grow = 1.0 + 0.02 * above;
+        const std::uint8_t rgba[4] = {25, 25, 38, static_cast<std::uint8_t>(115 * std::clamp(1.0 - above / 40.0, 0.1, 1.0))};
+        const Vec3 centre(b.position.x(), ground + 0.006, b.position.z());
+        const auto base = static_cast<std::uint32_t>(shadows_.positions.size() / 3);
+        for (const Vec3& v : disc_.vertices) shadows_.add(centre + grow * size.cwiseProduct(v), Vec3::UnitY(), rgba);
+        for (std::uint32_t i : disc_.indices) shadows_.indices.push_back(base + i);
+    }
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    shadows_.draw(GL_TRIANGLES);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glEnable(GL_LIGHTING);
+
+    // Bodies: one batch; the hovered one a little lighter.
+    solid_.clear();
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        std::uint8_t rgba[4];
+        colourOf(bodies[i], i, rgba);
+        if (hovered && *hovered == i) {
+            for (int k = 0; k < 3; ++k) rgba[k] = static_cast<std::uint8_t>(std::min(255, rgba[k] + 40));
+        }
+        append(solid_, bodies[i], rgba, camera, height);
+    }
+    solid_.draw(GL_TRIANGLES);
+
+    // The selection as a yellow wire frame; the drag spring as a line to the cursor's point.
+    glDisable(GL_LIGHTING);
+    const auto selected = session.selected();
+    if (selected && *selected < bodies.size()) {
+        Body outline = bodies[*selected];
+        outline.radius *= 1.03;
+        outline.halfExtents *= 1.03;
+        const std::uint8_t yellow[4] = {255, 242, 51, 255};
+        solid_.clear();
+        append(solid_, outline, yellow, camera, height);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        solid_.draw(GL_TRIANGLES);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        if (const auto target = session.dragTarget()) {
+            lines_.clear();
+            lines_.add(bodies[*selected].position, Vec3::UnitY(), yellow);
+            lines_.add(*target, Vec3::UnitY(), yellow);
+            glLineWidth(2.0f);
+            lines_.draw(GL_LINES);
+            glLineWidth(1.0f);
+        }
+    }
+    glEnable(GL_LIGHTING);
+
+    // The reference ghost, translucent, over everything opaque.
+    if (session.ghostOn()) {
+        translucent_.clear();
+        const std::uint8_t ghost[4] = {140, 190, 255, 90};
+        const auto& poses = session.ghostPoses();
+        for (std::size_t i = 0; i < std::min(poses.size(), bodies.size()); ++i) {
+            Body g = bodies[i];
+            const auto& p = poses[i];
+            g.position = Vec3(p[0], p[1], p[2]);
+            g.orientation = Quat(p[3], p[4], p[5], p[6]);
+            append(translucent_, g, ghost, camera, height);
+        }
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glDepthMask(GL_FALSE);
+        translucent_.draw(GL_TRIANGLES);
+        glDepthMask(GL_TRUE);
+        glDisable(GL_BLEND);
+    }
+    glDisable(GL_FOG);
+    glDisable(GL_LIGHTING);
+}
+
+}  // namespace gpl::viewer

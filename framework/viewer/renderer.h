@@ -1,0 +1,47 @@
+// Draws a session with fixed-function OpenGL (GL 2, as Mesa's llvmpipe runs it well): shaded
+// spheres, boxes and planes with their orientation, a ground grid, blob shadows and fog as depth
+// cues, static bodies in grey and movable ones in colour, the selection, the drag spring and the
+// reference ghost. Bodies are batched into one vertex array per frame: a thousand bodies cost a
+// few draw calls, not thousands.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "camera.h"
+#include "session.h"
+
+namespace gpl::viewer {
+
+class Renderer {
+public:
+    Renderer();
+    void draw(const Session& session, const Camera& camera, int width, int height,
+              std::optional<std::size_t> hovered);
+
+    /// Indexed vertices (llvmpipe shades each vertex once however many triangles share it).
+    struct Mesh {
+        std::vector<Vec3> vertices, normals;
+        std::vector<std::uint32_t> indices;  ///< triangles
+    };
+    struct Batch {
+        std::vector<float> positions, normals;
+        std::vector<std::uint8_t> colours;
+        std::vector<std::uint32_t> indices;
+        void clear() { positions.clear(), normals.clear(), colours.clear(), indices.clear(); }
+        std::uint32_t add(const Vec3& p, const Vec3& n, const std::uint8_t rgba[4]);
+        void draw(unsigned mode) const;  ///< indexed when it has indices
+    };
+
+private:
+    /// Appends a sphere or a box to the batch; the sphere's detail follows its size on screen.
+    void append(Batch& batch, const Body& body, const std::uint8_t rgba[4], const Camera& camera, int height) const;
+
+    Mesh sphere_[3];  ///< unit spheres, fine to coarse
+    Mesh cube_;       ///< the cube [-1, 1]^3
+    Mesh disc_;       ///< unit disc in the x-z plane
+    Batch solid_, translucent_, shadows_, lines_;
+};
+
+}  // namespace gpl::viewer

@@ -1,0 +1,196 @@
+#include "session.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gpl::viewer {
+
+void EnergySeries::push(double k, double p) {
+    for (auto* s : {&kinetic, &potential, &total}) {
+        if (s->size() == kCapacity) s->pop_front();
+    }
+    kinetic.push_back(static_cast<float>(k));
+    potential.push_back(static_cast<float>(p));
+    total.push_back(static_cast<float>(k + p));
+}
+
+Session::Session(const Scene& scene) : scene_(&scene), reference_(gplref::makeReferenceWorld()) { load(scene); }
+
+void Session::load(const Scene& scene) {
+    scene_ = &scene;
+    gpl::load(engine_, scene);
+    tick_ = scene.timeStep;
+    engine_.setTimeStep(tick_ / substeps_);
+    history_.clear();
+    clock_.reset();
+    selected_.reset();
+    drag_.reset();
+    error_.clear();
+    edited_ = false;
+    shots_ = 0;
+    energies_.clear();
+    energies_.initialTotal = engine_.totalEnergy();
+    energies_.push(engine_.kineticEnergy(), engine_.potentialEnergy());
+    restartGhost();
+}
+
+void Session::frame(double realSeconds) {
+    if (paused_) return;
+    const int n = clock_.advance(realSeconds, speed_, tick_, kMaxStepsPerFrame);
+    for (int i = 0; i < n && !paused_; ++i) tickOnce();
+}
+
+void Session::stepOnce() { tickOnce(); }
+
+void Session::tickOnce() {
+    history_.push(engine_.state());
+    try {
+        for (int i = 0; i < substeps_; ++i) {
+            if (drag_) {
+                // A critically damped spring to the cursor (omega = 12 rad/s), whatever the mass.
+                Body& b = engine_.bodies()[drag_->index];
+                const double w = 12.0, h = engine_.timeStep();
+                b.velocity += h * (w * w * (drag_->target - b.position) - 2.0 * w * b.velocity);
+            }
+            engine_.step();
+            if (ghostOn()) reference_->step();
+        }
+    } catch (const std::exception& e) {
+        error_ = e.what();
+        paused_ = true;
+    }
+    if (ghostOn()) ghostPoses_ = reference_->poses();
+    energies_.push(engine_.kineticEnergy(), engine_.potentialEnergy());
+}
+
+bool Session::stepBack() {
+    PhysicsEngine::State s;
+    if (!history_.pop(s)) return false;
+    engine_.restore(s);
+    if (selected_ && *selected_ >= engine_.bodies().size()) selected_.reset();
+    drag_.reset();
+    error_.clear();
+    // The ghost cannot step back; it follows again after a reset.
+    edited_ = true;
+    if (!energies_.total.empty()) {
+        energies_.kinetic.pop_back(), energies_.potential.pop_back(), energies_.total.pop_back();
+    }
+    return true;
+}
+
+void Session::setSpeed(double s) { speed_ = std::clamp(s, 1.0 / 64.0, 8.0); }
+
+void Session::setTick(double tick) {
+    engine_.setTimeStep(tick / substeps_);  // validates first
+    tick_ = tick;
+    settingsChanged();
+}
+
+void Session::setSubsteps(int n) {
+    n = std::clamp(n, 1, 64);
+    engine_.setTimeStep(tick_ / n);
+    substeps_ = n;
+    settingsChanged();
+}
+
+void Session::toggleGravity() {
+    engine_.setGravity(gravityOn() ? Vec3::Zero() : standardGravity());
+    settingsChanged();
+}
+
+void Session::settingsChanged() {
+    // Before the first step the ghost can start over with the new settings; later it would
+    // compare two different histories, so it stops until the next reset.
+    if (engine_.stepCount() == 0) {
+        restartGhost();
+    } else {
+        edited_ = true;
+    }
+}
+
+std::optional<std::size_t> Session::pickAndSelect(const Ray& ray) {
+    const auto hit = pick(engine_.bodies(), ray);
+    selected_ = hit ? std::optional<std::size_t>(hit->index) : std::nullopt;
+    return selected_;
+}
+
+bool Session::beginDrag(const Ray& ray, const Vec3& viewDirection) {
+    const auto hit = pick(engine_.bodies(), ray);
+    if (!hit || engine_.bodies()[hit->index].isStatic()) return false;
+    selected_ = hit->index;
+    const Vec3 grab = ray.origin + hit->distance * ray.direction;
+    drag_ = Drag{hit->index, grab, grab, viewDirection.normalized()};
+    edited_ = true;
+    return true;
+}
+
+void Session::dragTo(const Ray& ray) {
+    if (!drag_) return;
+    const double denom = ray.direction.dot(drag_->planeNormal);
+    if (std::abs(denom) < 1e-9) return;
+    const double t = (drag_->planePoint - ray.origin).dot(drag_->planeNormal) / denom;
+    if (t > 0.0) drag_->target = ray.origin + t * ray.direction;
+}
+
+std::string Session::uniqueName(const std::string& stem) const {
+    for (int i = 1;; ++i) {
+        const std::string name = stem + "-" + std::to_string(i);
+        const auto& bodies = engine_.bodies();
+        if (std::none_of(bodies.begin(), bodies.end(), [&](const Body& b) { return b.name == name; })) return name;
+    }
+}
+
+void Session::shoot(const Ray& from, double speed) {
+    engine_.add(sphere(uniqueName("shot"), 0.3, 1.0).at(from.origin + 1.0 * from.direction).moving(speed * from.direction));
+    ++shots_;
+    edited_ = true;
+}
+
+void Session::addBox(const Vec3& at) {
+    engine_.add(box(uniqueName("box"), {0.5, 0.5, 0.5}, 1.0).at(at));
+    edited_ = true;
+}
+
+bool Session::removeSelected() {
+    if (!selected_) return false;
+    engine_.remove(*selected_);
+    selected_.reset();
+    drag_.reset();
+    edited_ = true;
+    return true;
+}
+
+void Session::setGhost(bool on) {
+    ghostOn_ = on;
+    restartGhost();
+}
+
+void Session::restartGhost() {
+    ghostPoses_.clear();
+    if (!ghostOn_ || !reference_) return;
+    try {
+        const Vec3 g = engine_.gravity();
+        reference_->load(scene_->name, engine_.timeStep(), {g.x(), g.y(), g.z()});
+        ghostPoses_ = reference_->poses();
+    } catch (const std::exception& e) {
+        error_ = std::string("reference ghost: ") + e.what();
+        ghostOn_ = false;
+    }
+}
+
+double Session::ghostDifference(std::size_t* index) const {
+    double worst = 0.0;
+    if (!ghostOn()) return worst;
+    const auto& bodies = engine_.bodies();
+    for (std::size_t i = 0; i < std::min(bodies.size(), ghostPoses_.size()); ++i) {
+        const auto& p = ghostPoses_[i];
+        const double d = (bodies[i].position - Vec3(p[0], p[1], p[2])).norm();
+        if (d >= worst) {
+            worst = d;
+            if (index) *index = i;
+        }
+    }
+    return worst;
+}
+
+}  // namespace gpl::viewer

@@ -1,0 +1,136 @@
+// What the viewer shows and changes, without any GL: the engine on a scene, time control
+// (pause, step, step back, speed, substeps), interaction (select, drag, shoot, add, remove,
+// gravity), energy plots and the reference ghost. Keys and mouse map onto these calls.
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "clock.h"
+#include "gpl/scenes.h"
+#include "history.h"
+#include "picking.h"
+#include "reference.h"
+
+namespace gpl::viewer {
+
+/// Energies over the last samples, one per viewer tick (J).
+struct EnergySeries {
+    static constexpr std::size_t kCapacity = 600;
+    std::deque<float> kinetic, potential, total;
+    double initialTotal = 0.0;  ///< J, at the last reset
+    void clear() { kinetic.clear(), potential.clear(), total.clear(); }
+    void push(double k, double p);
+};
+
+class Session {
+public:
+    static constexpr std::size_t kHistoryBytes = 256u << 20;  ///< memory for the step-back history
+    static constexpr int kMaxStepsPerFrame = 64;             ///< beyond this, time is dropped
+
+    explicit Session(const Scene& scene);
+
+    // ---- Scene ---------------------------------------------------------------------------------
+    /// Loads the scene afresh with its own time step and gravity (keeps speed, substeps, pause).
+    void load(const Scene& scene);
+    void reset() { load(*scene_); }
+    const Scene& scene() const { return *scene_; }
+    PhysicsEngine& engine() { return engine_; }
+    const PhysicsEngine& engine() const { return engine_; }
+
+    // ---- Time ----------------------------------------------------------------------------------
+    /// Advances by one frame of realSeconds (times the speed) in whole ticks unless paused.
+    void frame(double realSeconds);
+    void togglePause() { paused_ = !paused_; }
+    void setPaused(bool p) { paused_ = p; }
+    bool paused() const { return paused_; }
+    void stepOnce();  ///< one tick, also while paused
+    bool stepBack();  ///< restores the state before the last tick; false when the history is empty
+    void faster() { setSpeed(speed_ * 2.0); }
+    void slower() { setSpeed(speed_ / 2.0); }
+    void setSpeed(double s);  ///< clamped to 1/64 .. 8
+    double speed() const { return speed_; }
+    /// One tick is `tick` seconds, split into `substeps` engine steps.
+    void setTick(double tick);
+    double tick() const { return tick_; }
+    void setSubsteps(int n);
+    int substeps() const { return substeps_; }
+    const History& history() const { return history_; }
+    const FixedStepClock& clock() const { return clock_; }
+
+    // ---- Interaction ---------------------------------------------------------------------------
+    void toggleGravity();
+    bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
+    void select(std::optional<std::size_t> index) { selected_ = index; }
+    std::optional<std::size_t> selected() const { return selected_; }
+    const Body* selectedBody() const { return selected_ ? &engine_.bodies()[*selected_] : nullptr; }
+    /// Picks the body under the ray (selects it, or clears the selection when none).
+    std::optional<std::size_t> pickAndSelect(const Ray& ray);
+    /// Starts dragging the body under the ray: a spring pulls it toward the cursor, which moves
+    /// on the plane through the grab point facing the camera.
+    bool beginDrag(const Ray& ray, const Vec3& viewDirection);
+    void dragTo(const Ray& ray);
+    void endDrag() { drag_.reset(); }
+    bool dragging() const { return drag_.has_value(); }
+    std::optional<Vec3> dragTarget() const { return drag_ ? std::optional<Vec3>(drag_->target) : std::nullopt; }
+    void shoot(const Ray& from, double speed);  ///< a 1 kg sphere from the camera (m/s)
+    void addBox(const Vec3& at);                ///< a 1 m box dropped at a point
+    bool removeSelected();
+    /// Edits (add, remove, drag, step back, settings changed after the start) stop the reference
+    /// ghost; a reset starts it again.
+    bool edited() const { return edited_; }
+
+    // ---- Diagnostics ---------------------------------------------------------------------------
+    const EnergySeries& energies() const { return energies_; }
+    /// The last error (a non-finite state, an exception from a hook); the session pauses on one.
+    const std::string& error() const { return error_; }
+
+    // ---- Reference ghost -----------------------------------------------------------------------
+    bool ghostAvailable() const { return reference_ != nullptr; }
+    void setGhost(bool on);
+    bool ghostWanted() const { return ghostOn_ && reference_; }
+    /// Shown: wanted, and the scene not edited since the last reset.
+    bool ghostOn() const { return ghostWanted() && !edited_; }
+    /// Ghost poses: position (m) and orientation (w, x, y, z) per body, in the scene's order.
+    const std::vector<std::array<double, 7>>& ghostPoses() const { return ghostPoses_; }
+    /// Largest distance between a body and its ghost (m), and the body's index.
+    double ghostDifference(std::size_t* index = nullptr) const;
+
+private:
+    void tickOnce();
+    void restartGhost();
+    void settingsChanged();
+    std::string uniqueName(const std::string& stem) const;
+
+    struct Drag {
+        std::size_t index;
+        Vec3 target;       ///< m, where the cursor is in the world
+        Vec3 planePoint;   ///< m
+        Vec3 planeNormal;  ///< unit
+    };
+
+    const Scene* scene_;
+    PhysicsEngine engine_;
+    History history_{kHistoryBytes};
+    FixedStepClock clock_;
+    EnergySeries energies_;
+    std::optional<std::size_t> selected_;
+    std::optional<Drag> drag_;
+    std::unique_ptr<gplref::ReferenceWorld> reference_;
+    std::vector<std::array<double, 7>> ghostPoses_;
+    std::string error_;
+    double tick_ = kDefaultTimeStep;  ///< s
+    double speed_ = 1.0;
+    int substeps_ = 1;
+    int shots_ = 0;
+    bool paused_ = false;
+    bool edited_ = false;
+    bool ghostOn_ = false;
+};
+
+}  // namespace gpl::viewer

@@ -1,0 +1,192 @@
+"""The real viewer window under Xvfb, driven by scripted keys and mouse events that go through the
+same handlers GLUT calls. Screenshots are checked for what a person would see."""
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+from PIL import Image
+
+SOLUTIONS = os.environ.get("GPL_VIEWER_SOLUTIONS")
+ASSIGNMENTS = os.environ.get("GPL_VIEWER_ASSIGNMENTS")
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+SKY = (204, 217, 230)  # the background colour (0.80, 0.85, 0.90)
+
+
+def viewer(binary, *args, timeout=120):
+    """Runs the viewer on a fresh Xvfb display; returns (exit status, state dumps, output)."""
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", binary, *map(str, args)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
+    return proc.returncode, states, proc.stdout + proc.stderr
+
+
+def pixels(path):
+    with Image.open(path) as img:
+        return img.size, list(img.convert("RGB").getdata())
+
+
+def not_sky_fraction(path):
+    _, pixels_ = pixels(path)
+    off = sum(1 for p in pixels_ if max(abs(a - b) for a, b in zip(p, SKY)) > 12)
+    return off / len(pixels_)
+
+
+def orange_centroid(path):
+    """Centre (x, y) of the pixels of the first movable body's colour (orange), or None."""
+    (w, _), data = pixels(path)
+    xs = ys = n = 0
+    for i, (r, g, b) in enumerate(data):
+        if r > 120 and r > g + 45 and g > b + 30:
+            xs += i % w
+            ys += i // w
+            n += 1
+    return (xs / n, ys / n) if n > 30 else None
+
+
+@unittest.skipUnless(SOLUTIONS and ASSIGNMENTS, "set GPL_VIEWER_SOLUTIONS and GPL_VIEWER_ASSIGNMENTS (CTest does)")
+class Window(unittest.TestCase):
+    def setUp(self):
+        self.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-viewer-"))
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp)
+
+    def test_headless_frames_show_the_scene(self):
+        out = self.tmp / "frames"
+        rc, _, log = viewer(SOLUTIONS, "static-and-movable", "--frames", 12, "--out", out)
+        self.assertEqual(rc, 0, log)
+        frames = sorted(out.glob("frame_*.png"))
+        self.assertEqual(len(frames), 12)
+        with Image.open(frames[0]) as first:
+            self.assertEqual(first.size, (1280, 720))
+        self.assertGreater(not_sky_fraction(frames[-1]), 0.2, "the floor, the bodies and the panel are drawn")
+
+    def test_a_falling_sphere_moves_down_the_image(self):
+        out = self.tmp / "fall"
+        rc, _, log = viewer(SOLUTIONS, "falling-sphere", "--frames", 40, "--out", out, "--no-panel")
+        self.assertEqual(rc, 0, log)
+        first, last = orange_centroid(out / "frame_00001.png"), orange_centroid(out / "frame_00040.png")
+        self.assertIsNotNone(first, "the ball is visible in the first frame")
+        self.assertIsNotNone(last, "the ball is visible in the last frame")
+        # 40 frames are 0.67 s: the ball falls 2.2 m, far more than a few pixels on screen.
+        self.assertGreater(last[1] - first[1], 20, f"from {first} to {last}")
+        self.assertAlmostEqual(last[0], first[0], delta=3, msg="straight down")
+
+    def test_the_untouched_stubs_leave_the_ball_where_it_is(self):
+        out = self.tmp / "stub"
+        rc, states, log = viewer(ASSIGNMENTS, "falling-sphere", "--frames", 20, "--out", out, "--no-panel")
+        self.assertEqual(rc, 0, log)
+        self.assertIn("not implemented: integrator()", log)
+        first, last = orange_centroid(out / "frame_00001.png"), orange_centroid(out / "frame_00020.png")
+        self.assertAlmostEqual(first[1], last[1], delta=0.5)
+
+    def test_scene_keys_switch_the_scene(self):
+        a, b = self.tmp / "a.png", self.tmp / "b.png"
+        rc, states, log = viewer(SOLUTIONS, "--paused", "--script",
+                                 f"wait 2; shot {a}; key 2; wait 2; shot {b}; dump; key F11; dump; key 7; dump; quit")
+        self.assertEqual(rc, 0, log)
+        self.assertEqual([s["scene"] for s in states], ["masses", "my-scene", "my-scene"])
+        self.assertIn("no scene on key 7", log)
+        diff = sum(1 for p, q in zip(pixels(a)[1], pixels(b)[1]) if p != q)
+        self.assertGreater(diff, 1280 * 720 * 0.01, "switching scenes changes the picture")
+
+    def test_pause_step_step_back_speed(self):
+        rc, states, log = viewer(SOLUTIONS, "static-and-movable", "--script",
+                                 "wait 5; key space; dump; wait 10; dump; key n; dump; key n; key b; dump;"
+                                 " key b; key b; dump; key plus; dump; key minus; key minus; dump; key space; wait 5; dump; quit")
+        self.assertEqual(rc, 0, log)
+        paused, later, stepped, back, back2, fast, slow, running = states
+        self.assertTrue(paused["paused"])
+        self.assertEqual(later["steps"], paused["steps"], "nothing moves while paused")
+        self.assertEqual(stepped["steps"], paused["steps"] + 1)
+        self.assertEqual(back["steps"], stepped["steps"])
+        self.assertEqual(back2["steps"], paused["steps"] - 1)
+        self.assertEqual(back2["positions"]["ball"][1] > stepped["positions"]["ball"][1], True, "stepping back raises the ball")
+        self.assertEqual((fast["speed"], slow["speed"]), (2.0, 0.5))
+        self.assertFalse(running["paused"])
+        self.assertGreater(running["steps"], back2["steps"])
+
+    def test_pick_and_drag_a_body_with_the_mouse(self):
+        shot = self.tmp / "drag.png"
+        rc, states, log = viewer(SOLUTIONS, "static-and-movable", "--script",
+                                 "key space; move @ball; wait 1; dump; down left @ball; move 900 150; dump; key space;"
+                                 f" wait 60; dump; shot {shot}; wait 1; up left 900 150; dump; quit")
+        self.assertEqual(rc, 0, log)
+        hover, grabbed, pulled, released = states
+        self.assertEqual(hover["hovered"], "ball")
+        self.assertEqual(grabbed["selected"], "ball")
+        self.assertTrue(grabbed["dragging"])
+        self.assertFalse(released["dragging"])
+        start, end = grabbed["positions"]["ball"], pulled["positions"]["ball"]
+        self.assertGreater(end[0], start[0] + 1.0, "pulled to the right, toward the cursor")
+        self.assertGreater(end[1], start[1], "held up against gravity")
+        self.assertGreater(not_sky_fraction(shot), 0.2)
+
+    def test_click_on_nothing_clears_the_selection_and_orbits(self):
+        rc, states, log = viewer(SOLUTIONS, "static-and-movable", "--paused", "--script",
+                                 "down left @ball; up left @ball; dump; down left 100 650; move 300 600; up left 300 600; dump; quit")
+        self.assertEqual(rc, 0, log)
+        self.assertEqual(states[0]["selected"], "ball")
+        self.assertIsNone(states[1]["selected"])
+        self.assertNotEqual(states[0]["camera_eye"], states[1]["camera_eye"], "the drag orbited the camera")
+
+    def test_interaction_keys(self):
+        rc, states, log = viewer(SOLUTIONS, "static-and-movable", "--paused", "--script",
+                                 "dump; key g; dump; key x; key i; dump; down left @crate; up left @crate; key del; dump;"
+                                 " key f; key h; key tab; wheel up 640 360; dump; key r; key esc; dump; quit")
+        self.assertEqual(rc, 0, log)
+        start, gravity, added, removed, toggles, reset = states
+        self.assertTrue(start["gravity"])
+        self.assertFalse(gravity["gravity"])
+        self.assertEqual(added["bodies"], start["bodies"] + 2, "a shot sphere and an inserted box")
+        self.assertEqual(removed["bodies"], added["bodies"] - 1)
+        self.assertNotIn("crate", removed["positions"])
+        self.assertTrue(toggles["fly"])
+        self.assertTrue(toggles["help"])
+        self.assertFalse(toggles["panel"])
+        self.assertLess(toggles["camera_distance"], start["camera_distance"])
+        self.assertEqual(reset["bodies"], start["bodies"])
+        self.assertTrue(reset["gravity"], "a reset restores the scene's gravity")
+        self.assertFalse(reset["help"], "Esc closes the help first")
+
+    def test_reference_ghost_shows_where_the_stubs_diverge(self):
+        rc, states, log = viewer(ASSIGNMENTS, "falling-sphere", "--script", "key o; wait 60; dump; quit")
+        self.assertEqual(rc, 0, log)
+        self.assertTrue(states[0]["ghost"])
+        # The stubbed ball stays at 10 m while the reference falls 4.9 t^2 (about 1.4 m after 0.53 s).
+        self.assertGreater(states[0]["ghost_difference"], 0.5)
+        rc, states, log = viewer(SOLUTIONS, "falling-sphere", "--ghost", "--script", "wait 60; dump; quit")
+        self.assertEqual(states[0]["ghost_difference"], 0.0, "the reference agrees with itself")
+
+    def test_recording_writes_frames(self):
+        rec = self.tmp / "rec"
+        rc, states, log = viewer(SOLUTIONS, "projectile", "--script", f"wait 1; key v; wait 10; key v; dump; quit",
+                                 "--out", rec)
+        self.assertEqual(rc, 0, log)
+        folders = [p for p in rec.iterdir() if p.is_dir()]
+        self.assertEqual(len(folders), 1, log)
+        self.assertGreaterEqual(len(list(folders[0].glob("frame_*.png"))), 10)
+        self.assertFalse(states[0]["recording"])
+
+    def test_bad_input_is_an_error_not_a_crash(self):
+        rc, _, log = viewer(SOLUTIONS, "no-such-scene", "--frames", 1)
+        self.assertEqual(rc, 2)
+        self.assertIn("unknown scene 'no-such-scene'", log)
+        rc, _, log = viewer(SOLUTIONS, "--script", "key 1; frobnicate; quit")
+        self.assertEqual(rc, 2)
+        self.assertIn("bad script command 'frobnicate'", log)
+        rc, _, log = viewer(SOLUTIONS, "--frames", 1, "--out", "/proc/no-such-folder")
+        self.assertEqual(rc, 2)
+        self.assertIn("cannot create the folder", log)
+
+    def test_escape_quits_cleanly(self):
+        rc, states, log = viewer(SOLUTIONS, "--script", "wait 3; key esc")
+        self.assertEqual(rc, 0, log)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,256 @@
+// The viewer's GL-free parts: camera, fixed-step clock, history, picking and the session that
+// keys and mouse drive.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "camera.h"
+#include "clock.h"
+#include "history.h"
+#include "picking.h"
+#include "session.h"
+
+namespace gpl::viewer {
+namespace {
+
+TEST(Camera, RayThroughTheCentreIsTheViewDirection) {
+    Camera c;
+    const Ray r = c.rayThrough(640, 360, 1280, 720);
+    EXPECT_TRUE(r.direction.isApprox(c.forward(), 1e-12));
+    EXPECT_TRUE(r.origin.isApprox(c.eye(), 1e-12));
+}
+
+TEST(Camera, ProjectInvertsRayThrough) {
+    Camera c;
+    c.orbit(120, -40);
+    for (const auto& [x, y] : {std::pair{10.0, 20.0}, {640.0, 360.0}, {1200.0, 700.0}}) {
+        const Ray r = c.rayThrough(x, y, 1280, 720);
+        double px = 0, py = 0;
+        ASSERT_TRUE(c.project(r.origin + 7.0 * r.direction, 1280, 720, px, py));
+        EXPECT_NEAR(px, x, 1e-6);
+        EXPECT_NEAR(py, y, 1e-6);
+    }
+    double px, py;
+    EXPECT_FALSE(c.project(c.eye() - c.forward(), 1280, 720, px, py)) << "a point behind the eye";
+}
+
+TEST(Camera, OrbitKeepsTheTargetAndDistancePanMovesBoth) {
+    Camera c;
+    const Vec3 target = c.target();
+    const double d = c.distance();
+    c.orbit(200, 50);
+    EXPECT_EQ(c.target(), target);
+    EXPECT_NEAR((c.eye() - c.target()).norm(), d, 1e-9);
+    const Vec3 eye = c.eye();
+    c.pan(100, 0, 720);
+    EXPECT_NEAR((c.target() - target).dot(c.forward()), 0.0, 1e-9) << "pan moves across the view";
+    EXPECT_GT((c.eye() - eye).norm(), 0.1);
+    c.zoom(3);
+    EXPECT_LT(c.distance(), d);
+    for (int i = 0; i < 200; ++i) c.zoom(5);
+    EXPECT_GE(c.distance(), 0.5);
+}
+
+TEST(Camera, FlyMovesAlongTheViewAndLookTurnsAboutTheEye) {
+    Camera c;
+    c.setFlying(true);
+    const Vec3 eye = c.eye();
+    c.move(Vec3(0.0, 0.0, 2.0));
+    EXPECT_TRUE((c.eye() - eye).isApprox(2.0 * c.forward(), 1e-9));
+    const Vec3 before = c.eye();
+    c.look(80, 30);
+    EXPECT_TRUE(c.eye().isApprox(before, 1e-9));
+}
+
+TEST(Camera, FrameShowsEveryBody) {
+    const std::vector<Body> bodies = {sphere("a", 0.5, 1.0).at({-30.0, 2.0, 5.0}),
+                                      box("b", {1.0, 1.0, 1.0}, 1.0).at({25.0, 40.0, -10.0}), plane("p", Vec3::UnitY())};
+    Camera c;
+    c.frame(bodies);
+    for (const Body& b : bodies) {
+        if (b.shape == Shape::Plane) continue;
+        double x, y;
+        ASSERT_TRUE(c.project(b.position, 1280, 720, x, y)) << b.name;
+        EXPECT_TRUE(x > 0 && x < 1280 && y > 0 && y < 720) << b.name << " at " << x << ", " << y;
+    }
+}
+
+TEST(Clock, BanksTimeWithoutLosingAny) {
+    FixedStepClock clock;
+    const double h = 0.01;
+    int steps = 0;
+    double real = 0.0;
+    for (double frame : {0.016, 0.033, 0.004, 0.1, 0.0071}) {
+        steps += clock.advance(frame, 1.0, h, 64);
+        real += frame;
+    }
+    // Every second of real time is either stepped or still banked (to rounding).
+    EXPECT_NEAR(steps * h + clock.banked(), real, 1e-12);
+    EXPECT_LT(clock.banked(), h);
+    EXPECT_EQ(clock.dropped(), 0.0);
+}
+
+TEST(Clock, SpeedScalesAndTheCapDropsInsteadOfSpiralling) {
+    FixedStepClock clock;
+    EXPECT_EQ(clock.advance(0.1, 0.5, 0.01, 64), 5);
+    clock.reset();
+    EXPECT_EQ(clock.advance(2.0, 1.0, 0.01, 64), 64);
+    EXPECT_NEAR(clock.dropped(), 2.0 - 0.64, 1e-9);
+    EXPECT_EQ(clock.advance(-1.0, 1.0, 0.01, 64), 0);
+    EXPECT_EQ(clock.advance(0.1, 1.0, 0.0, 64), 0);
+}
+
+TEST(History, KeepsTheNewestWithinItsBudget) {
+    PhysicsEngine e;
+    for (int i = 0; i < 10; ++i) e.add(sphere("s" + std::to_string(i), 0.5, 1.0));
+    const std::size_t one = History::bytesOf(e.state());
+    History h(5 * one);
+    for (int i = 0; i < 8; ++i) {
+        e.step();
+        h.push(e.state());
+    }
+    EXPECT_EQ(h.size(), 5u);
+    EXPECT_LE(h.bytes(), h.budget());
+    PhysicsEngine::State s;
+    ASSERT_TRUE(h.pop(s));
+    EXPECT_EQ(s.steps, 8u) << "the newest comes out first";
+    while (h.pop(s)) {
+    }
+    EXPECT_EQ(s.steps, 4u) << "the oldest kept is the fifth newest";
+    EXPECT_EQ(h.bytes(), 0u);
+    History tiny(one / 2);
+    tiny.push(e.state());
+    EXPECT_EQ(tiny.size(), 0u) << "a state larger than the budget is not kept";
+}
+
+TEST(Picking, SpheresAndBoxesButNotPlanes) {
+    const Ray down{Vec3(0.0, 10.0, 0.0), Vec3(0.0, -1.0, 0.0)};
+    EXPECT_NEAR(*intersect(sphere("s", 1.0, 1.0).at({0.0, 2.0, 0.0}), down), 7.0, 1e-12);
+    EXPECT_FALSE(intersect(sphere("s", 1.0, 1.0).at({3.0, 2.0, 0.0}), down));
+    EXPECT_NEAR(*intersect(box("b", {1.0, 2.0, 1.0}, 1.0).at({0.0, 2.0, 0.0}), down), 6.0, 1e-12);
+    // Turned 45 degrees about z, the box's corner points up: sqrt(2) above its centre.
+    const Body turned = box("t", {1.0, 1.0, 1.0}, 1.0).rotated(Quat(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ())));
+    EXPECT_NEAR(*intersect(turned, down), 10.0 - std::sqrt(2.0), 1e-9);
+    EXPECT_FALSE(intersect(plane("p", Vec3::UnitY()), down));
+    const std::vector<Body> bodies = {sphere("far", 1.0, 1.0).at({0.0, 0.0, 0.0}), sphere("near", 1.0, 1.0).at({0.0, 5.0, 0.0})};
+    EXPECT_EQ(pick(bodies, down)->index, 1u);
+    EXPECT_FALSE(pick(bodies, Ray{Vec3(0.0, 10.0, 0.0), Vec3(0.0, 1.0, 0.0)}));
+}
+
+class SessionTest : public ::testing::Test {
+protected:
+    Session session{scenes().find("static-and-movable")};
+    const Body& ball() { return session.engine().body("ball"); }
+};
+
+TEST_F(SessionTest, PauseStepAndStepBack) {
+    session.frame(0.1);
+    EXPECT_EQ(session.engine().stepCount(), 10u);
+    session.togglePause();
+    session.frame(1.0);
+    EXPECT_EQ(session.engine().stepCount(), 10u) << "paused";
+    const PhysicsEngine::State before = session.engine().state();
+    session.stepOnce();
+    EXPECT_EQ(session.engine().stepCount(), 11u);
+    ASSERT_TRUE(session.stepBack());
+    EXPECT_EQ(session.engine().stepCount(), 10u);
+    EXPECT_EQ(ball().position, before.bodies[3].position);
+    EXPECT_EQ(ball().velocity, before.bodies[3].velocity);
+    for (int i = 0; i < 10; ++i) ASSERT_TRUE(session.stepBack());
+    EXPECT_EQ(session.engine().stepCount(), 0u);
+    EXPECT_FALSE(session.stepBack()) << "nothing before the start";
+}
+
+TEST_F(SessionTest, SpeedAndSubsteps) {
+    session.setSpeed(0.25);
+    session.frame(0.4);
+    EXPECT_EQ(session.engine().stepCount(), 10u) << "a quarter of 0.4 s in 0.01 s ticks";
+    session.setSpeed(1000.0);
+    EXPECT_EQ(session.speed(), 8.0);
+    session.setSpeed(1.0);
+    session.setSubsteps(4);
+    EXPECT_DOUBLE_EQ(session.engine().timeStep(), session.tick() / 4);
+    const double t = session.engine().time();
+    session.stepOnce();
+    EXPECT_NEAR(session.engine().time() - t, session.tick(), 1e-12) << "a tick is the same time, in four steps";
+    EXPECT_THROW(session.setTick(-1.0), std::invalid_argument);
+}
+
+TEST_F(SessionTest, GravityShootAddRemove) {
+    session.toggleGravity();
+    EXPECT_FALSE(session.gravityOn());
+    const Vec3 v = ball().velocity;
+    session.stepOnce();
+    EXPECT_EQ(ball().velocity, v) << "no gravity, no change";
+    session.toggleGravity();
+    EXPECT_TRUE(session.gravityOn());
+
+    const std::size_t n = session.engine().bodies().size();
+    session.shoot(Ray{Vec3(0.0, 2.0, 20.0), Vec3(0.0, 0.0, -1.0)}, 20.0);
+    ASSERT_EQ(session.engine().bodies().size(), n + 1);
+    EXPECT_TRUE(session.engine().bodies().back().velocity.isApprox(Vec3(0.0, 0.0, -20.0)));
+    session.addBox(Vec3(0.0, 3.0, 0.0));
+    EXPECT_EQ(session.engine().bodies().size(), n + 2);
+    EXPECT_TRUE(session.edited());
+    EXPECT_FALSE(session.removeSelected()) << "nothing selected";
+    session.select(session.engine().bodies().size() - 1);
+    EXPECT_TRUE(session.removeSelected());
+    EXPECT_EQ(session.engine().bodies().size(), n + 1);
+    session.reset();
+    EXPECT_EQ(session.engine().bodies().size(), n);
+    EXPECT_FALSE(session.edited());
+}
+
+TEST_F(SessionTest, DragPullsTheBodyToTheCursorAndStaticBodiesStay) {
+    const Vec3 eye(0.0, 8.0, 20.0);
+    const Ray atBall{eye, (ball().position - eye).normalized()};
+    ASSERT_TRUE(session.beginDrag(atBall, Vec3(0.0, 0.0, -1.0)));
+    EXPECT_EQ(session.selectedBody()->name, "ball");
+    const Vec3 start = ball().position;
+    const Vec3 goal = ball().position + Vec3(3.0, 2.0, 0.0);
+    session.dragTo(Ray{eye, (goal - eye).normalized()});
+    const Vec3 target = session.dragTarget().value();
+    EXPECT_GT((target - start).norm(), 2.0) << "the cursor's point moved with the cursor";
+    for (int i = 0; i < 200; ++i) session.stepOnce();
+    // The spring holds the ball at the cursor's point against gravity (sag g / omega^2 = 7 cm).
+    EXPECT_LT((ball().position - target).norm(), 0.1);
+    session.endDrag();
+    EXPECT_FALSE(session.dragging());
+
+    const Body& shelf = session.engine().body("shelf");
+    const Ray atShelf{eye, (shelf.position - eye).normalized()};
+    EXPECT_FALSE(session.beginDrag(atShelf, Vec3(0.0, 0.0, -1.0))) << "static bodies cannot be dragged";
+    EXPECT_EQ(session.pickAndSelect(atShelf).value(), 1u);
+}
+
+TEST_F(SessionTest, ANonFiniteStatePausesWithAMessage) {
+    session.engine().bodies()[3].velocity.x() = std::numeric_limits<double>::infinity();
+    session.engine().setRequiredStages({});  // the reference integrator's Debug assertions stay out of it
+    session.stepOnce();
+    EXPECT_TRUE(session.paused());
+    EXPECT_NE(session.error().find("ball"), std::string::npos) << session.error();
+}
+
+TEST_F(SessionTest, GhostStepsTheReferenceInLockStep) {
+    ASSERT_TRUE(session.ghostAvailable()) << "this build has solutions/";
+    session.setGhost(true);
+    for (int i = 0; i < 50; ++i) session.stepOnce();
+    ASSERT_EQ(session.ghostPoses().size(), session.engine().bodies().size());
+    // These tests link the reference hooks, so the ghost must agree to the last bit.
+    EXPECT_EQ(session.ghostDifference(), 0.0);
+    session.addBox(Vec3::Zero());
+    EXPECT_FALSE(session.ghostOn()) << "an edit stops the comparison";
+    session.reset();
+    EXPECT_TRUE(session.ghostOn());
+}
+
+TEST(EnergySeries, KeepsTheLastSamples) {
+    EnergySeries s;
+    for (std::size_t i = 0; i < EnergySeries::kCapacity + 10; ++i) s.push(double(i), 1.0);
+    EXPECT_EQ(s.total.size(), EnergySeries::kCapacity);
+    EXPECT_EQ(s.kinetic.front(), 10.0f);
+    EXPECT_EQ(s.total.back(), float(EnergySeries::kCapacity + 10));
+}
+
+}  // namespace
+}  // namespace gpl::viewer
