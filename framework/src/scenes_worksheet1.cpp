@@ -76,8 +76,8 @@ void addWorksheet1Scenes(SceneRegistry& r) {
            projectile});
     r.add({"static-and-movable", "4", "A floor, a shelf and a pillar that stay put, and three bodies that fall.", 1,
            kFreeFall, kDefaultTimeStep, staticAndMovable});
-    r.add({"thousand-bodies", "0", "1000 spheres and boxes in free fall (no collisions yet): a load for the viewer.",
-           1, kFreeFall, kDefaultTimeStep, thousandBodies});
+    r.add({"thousand-bodies", "0", "1000 spheres and boxes in free fall (no collisions yet): a load for the viewer.", 1,
+           kFreeFall, kDefaultTimeStep, thousandBodies});
 }
 
 }  // namespace gpl

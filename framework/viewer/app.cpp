@@ -92,6 +92,7 @@ private:
     enum class MouseMode { None, Orbit, Pan, Drag, Look };
 
     void loadScene(const std::string& key);
+    void frameScene();  ///< the scene's own view, or every body in view
     void message(const std::string& text);
     void title();
     void drawOverlay();
@@ -154,10 +155,20 @@ void App::init(int argc, char** argv) {
     ImGui_ImplGLUT_ReshapeFunc(width_, height_);
 
     panel_ = options_.panel;
-    camera_.frame(session_.engine().bodies());
     session_.setPaused(options_.paused);
     session_.setGhost(options_.ghost);
+    if (options_.dt > 0.0) session_.setTick(options_.dt);
     for (long long i = 0; i < options_.presteps; ++i) session_.stepOnce();
+    frameScene();
+    // Dear ImGui sizes auto-sized windows in their first frame and shows them from the second:
+    // one frame now, never shown, so that the first frame drawn (or saved) is complete.
+    for (int i = 0; i < 2; ++i) {
+        ImGui_ImplOpenGL2_NewFrame();
+        ImGui_ImplGLUT_NewFrame();
+        drawOverlay();
+        if (panel_) drawPanel();
+        ImGui::Render();
+    }
     deterministic_ = options_.frames > 0 || !options_.script.empty();
     std::istringstream script(options_.script);
     for (std::string cmd; std::getline(script, cmd, ';');) {
@@ -191,8 +202,8 @@ void App::shutdown() {
     ImGui::DestroyContext();
     if (options_.benchmark && frame_ > 0) {
         const double ms = frameMsSum_ / frame_;
-        std::printf("frames: %ld, bodies: %zu, mean frame time: %.2f ms (%.1f fps), of which physics %.2f ms\n",
-                    frame_, session_.engine().bodies().size(), ms, 1000.0 / ms, physicsMsSum_ / frame_);
+        std::printf("frames: %ld, bodies: %zu, mean frame time: %.2f ms (%.1f fps), of which physics %.2f ms\n", frame_,
+                    session_.engine().bodies().size(), ms, 1000.0 / ms, physicsMsSum_ / frame_);
     }
 }
 
@@ -210,12 +221,21 @@ void App::message(const std::string& text) {
 void App::loadScene(const std::string& key) {
     try {
         session_.load(scenes().find(key));
-        camera_.frame(session_.engine().bodies());
+        frameScene();
         hovered_.reset();
         title();
         message("scene " + session_.scene().key + ": " + session_.scene().name);
     } catch (const std::invalid_argument&) {
         message("no scene on key " + key);
+    }
+}
+
+void App::frameScene() {
+    const Scene& s = session_.scene();
+    if (s.viewDistance > 0.0) {
+        camera_.lookAt(s.viewTarget, s.viewDistance);
+    } else {
+        camera_.frame(session_.engine().bodies());
     }
 }
 
@@ -292,10 +312,9 @@ void App::toggleRecording() {
         stopRecording();
         return;
     }
-    const std::string dir =
-        (std::filesystem::path(options_.out.empty() ? "recordings" : options_.out) /
-         (session_.scene().name + "-" + timestamp()))
-            .string();
+    const std::string dir = (std::filesystem::path(options_.out.empty() ? "recordings" : options_.out) /
+                             (session_.scene().name + "-" + timestamp()))
+                                .string();
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec) {
@@ -331,19 +350,45 @@ void App::onKey(unsigned char c) {
     if (c >= '0' && c <= '9') return loadScene(std::string(1, static_cast<char>(c)));
     if (camera_.flying() && std::string("wasdqe").find(static_cast<char>(std::tolower(c))) != std::string::npos) return;
     switch (c) {
-        case ' ': session_.togglePause(); message(session_.paused() ? "paused" : "running"); break;
-        case 'n': case '.': session_.setPaused(true); session_.stepOnce(); break;
-        case 'b': case ',':
+        case ' ':
+            session_.togglePause();
+            message(session_.paused() ? "paused" : "running");
+            break;
+        case 'n':
+        case '.':
+            session_.setPaused(true);
+            session_.stepOnce();
+            break;
+        case 'b':
+        case ',':
             session_.setPaused(true);
             if (!session_.stepBack()) message("the history is empty");
             break;
-        case '+': case '=': session_.faster(); message("speed x" + formatNumber(session_.speed())); break;
-        case '-': session_.slower(); message("speed x" + formatNumber(session_.speed())); break;
-        case 'r': session_.reset(); message("scene reset"); break;
-        case 'g': session_.toggleGravity(); message(session_.gravityOn() ? "gravity on" : "gravity off"); break;
-        case 'x': session_.shoot(camera_.rayThrough(mouseX_, mouseY_, width_, height_), 20.0); break;
-        case 'i': session_.addBox(camera_.target() + Vec3(0.0, 3.0, 0.0)); break;
-        case 127: case 8:
+        case '+':
+        case '=':
+            session_.faster();
+            message("speed x" + formatNumber(session_.speed()));
+            break;
+        case '-':
+            session_.slower();
+            message("speed x" + formatNumber(session_.speed()));
+            break;
+        case 'r':
+            session_.reset();
+            message("scene reset");
+            break;
+        case 'g':
+            session_.toggleGravity();
+            message(session_.gravityOn() ? "gravity on" : "gravity off");
+            break;
+        case 'x':
+            session_.shoot(camera_.rayThrough(mouseX_, mouseY_, width_, height_), 20.0);
+            break;
+        case 'i':
+            session_.addBox(camera_.target() + Vec3(0.0, 3.0, 0.0));
+            break;
+        case 127:
+        case 8:
             if (!session_.removeSelected()) message("select a body first (click on it)");
             break;
         case 'o':
@@ -359,10 +404,19 @@ void App::onKey(unsigned char c) {
                 message("reference ghost on: the scene starts again beside the reference solution");
             }
             break;
-        case 'f': camera_.setFlying(!camera_.flying()); message(camera_.flying() ? "fly mode: WASD, QE" : "orbit mode"); break;
-        case 'c': camera_.frame(session_.engine().bodies()); break;
-        case '\t': panel_ = !panel_; break;
-        case 'h': help_ = !help_; break;
+        case 'f':
+            camera_.setFlying(!camera_.flying());
+            message(camera_.flying() ? "fly mode: WASD, QE" : "orbit mode");
+            break;
+        case 'c':
+            frameScene();
+            break;
+        case '\t':
+            panel_ = !panel_;
+            break;
+        case 'h':
+            help_ = !help_;
+            break;
         case 'p': {
             const std::string dir = options_.out.empty() ? "recordings" : options_.out;
             std::filesystem::create_directories(dir);
@@ -371,7 +425,9 @@ void App::onKey(unsigned char c) {
             message(savePng(path) ? "saved " + path : "cannot write " + path);
             break;
         }
-        case 'v': toggleRecording(); break;
+        case 'v':
+            toggleRecording();
+            break;
         case 27:
             if (help_) {
                 help_ = false;
@@ -379,7 +435,8 @@ void App::onKey(unsigned char c) {
                 quit(0);
             }
             break;
-        default: break;
+        default:
+            break;
     }
 }
 
@@ -439,11 +496,20 @@ void App::motion(int x, int y) {
     mouseX_ = x;
     mouseY_ = y;
     switch (mouseMode_) {
-        case MouseMode::Orbit: camera_.orbit(dx, dy); break;
-        case MouseMode::Look: camera_.look(dx, dy); break;
-        case MouseMode::Pan: camera_.pan(dx, dy, height_); break;
-        case MouseMode::Drag: session_.dragTo(camera_.rayThrough(x, y, width_, height_)); break;
-        case MouseMode::None: break;
+        case MouseMode::Orbit:
+            camera_.orbit(dx, dy);
+            break;
+        case MouseMode::Look:
+            camera_.look(dx, dy);
+            break;
+        case MouseMode::Pan:
+            camera_.pan(dx, dy, height_);
+            break;
+        case MouseMode::Drag:
+            session_.dragTo(camera_.rayThrough(x, y, width_, height_));
+            break;
+        case MouseMode::None:
+            break;
     }
 }
 
@@ -502,7 +568,8 @@ void App::runScript() {
             std::string k;
             in >> k;
             static const std::pair<const char*, unsigned char> names[] = {
-                {"space", ' '}, {"esc", 27}, {"tab", '\t'}, {"del", 127}, {"backspace", 8}, {"plus", '+'}, {"minus", '-'}};
+                {"space", ' '},   {"esc", 27},   {"tab", '\t'}, {"del", 127},
+                {"backspace", 8}, {"plus", '+'}, {"minus", '-'}};
             int fkey = 0;
             unsigned char c = k.size() == 1 ? static_cast<unsigned char>(k[0]) : 0;
             for (const auto& [name, code] : names) {
@@ -522,7 +589,9 @@ void App::runScript() {
         } else if (verb == "down" || verb == "up") {
             std::string button;
             in >> button;
-            const int b = button == "left" ? GLUT_LEFT_BUTTON : button == "right" ? GLUT_RIGHT_BUTTON : GLUT_MIDDLE_BUTTON;
+            const int b = button == "left"    ? GLUT_LEFT_BUTTON
+                          : button == "right" ? GLUT_RIGHT_BUTTON
+                                              : GLUT_MIDDLE_BUTTON;
             ok = scriptPoint(in, x, y);
             if (ok) mouse(b, verb == "down" ? GLUT_DOWN : GLUT_UP, x, y);
         } else if (verb == "move") {
@@ -599,8 +668,10 @@ void App::drawOverlay() {
     ImGui::Begin("overlay", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_AlwaysAutoResize |
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 34.0f);
     ImGui::Text("%s  %s", s.key.c_str(), s.name.c_str());
     ImGui::TextWrapped("%s", s.description.c_str());
+    ImGui::PopTextWrapPos();
     ImGui::Text("t = %.2f s   step %zu   h = %s s x %d   speed x%s%s", e.time(), e.stepCount(),
                 formatNumber(session_.tick()).c_str(), session_.substeps(), formatNumber(session_.speed()).c_str(),
                 session_.paused() ? "   PAUSED" : "");
@@ -620,7 +691,7 @@ void App::drawOverlay() {
         ImGui::Text("reference ghost: largest difference %.4g m (%s)", d,
                     worst < e.bodies().size() ? e.bodies()[worst].name.c_str() : "-");
     }
-    if (!recording_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
+    if (!recording_.empty() && options_.frames == 0) ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
     if (!message_.empty() && SteadyClock::now() < messageUntil_) ImGui::Text("%s", message_.c_str());
     ImGui::TextDisabled("h: help   Tab: panel");
     ImGui::End();
@@ -666,7 +737,8 @@ void App::drawPanel() {
         ImGui::Text("history: %zu states, %.1f of %.0f MiB", session_.history().size(),
                     session_.history().bytes() / 1048576.0, session_.history().budget() / 1048576.0);
         if (session_.clock().dropped() > 0.0) {
-            ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "behind real time: %.2f s dropped", session_.clock().dropped());
+            ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "behind real time: %.2f s dropped",
+                               session_.clock().dropped());
         }
     }
 
@@ -740,7 +812,7 @@ void App::drawPanel() {
     if (ImGui::CollapsingHeader("Camera and recording")) {
         bool fly = camera_.flying();
         if (ImGui::Checkbox("fly mode (WASD, QE)", &fly)) camera_.setFlying(fly);
-        if (ImGui::Button("reset camera")) camera_.frame(session_.engine().bodies());
+        if (ImGui::Button("reset camera")) frameScene();
         if (ImGui::Button(recording_.empty() ? "record PNG frames" : "stop recording")) toggleRecording();
     }
     ImGui::End();

@@ -16,15 +16,16 @@ namespace gpl::viewer {
 struct Options {
     std::string scene = "falling-sphere";
     int width = 1280, height = 720;
-    int frames = 0;            ///< > 0: stop after this many frames (time steps 1/60 s per frame)
-    std::string out;           ///< write every frame as PNG here (with frames > 0: the headless mode)
-    std::string record;        ///< start recording into this folder
-    long long presteps = 0;    ///< ticks to take before the first frame
-    std::string script;        ///< commands separated by ';' (see README)
+    int frames = 0;          ///< > 0: stop after this many frames (time steps 1/60 s per frame)
+    std::string out;         ///< write every frame as PNG here (with frames > 0: the headless mode)
+    std::string record;      ///< start recording into this folder
+    long long presteps = 0;  ///< ticks to take before the first frame
+    double dt = 0.0;         ///< > 0: the tick (s) instead of the scene's time step
+    std::string script;      ///< commands separated by ';' (see README)
     bool paused = false;
     bool panel = true;
     bool ghost = false;
-    bool benchmark = false;    ///< print frame timings at the end
+    bool benchmark = false;  ///< print frame timings at the end
 };
 
 /// Runs the viewer; returns the process exit status.

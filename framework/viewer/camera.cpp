@@ -33,7 +33,13 @@ void Camera::frame(const std::vector<Body>& bodies) {
     target_ = box.center();
     // The bounding sphere fills about two thirds of the view's height.
     const double radius = std::max(1.0, 0.5 * box.diagonal().norm());
-    distance_ = std::clamp(1.5 * radius / std::tan(kFieldOfViewY * kPi / 360.0), 8.0, 400.0);
+    distance_ = std::clamp(1.5 * radius / std::tan(kFieldOfViewY * kPi / 360.0), 16.0, 400.0);
+}
+
+void Camera::lookAt(const Vec3& target, double distance) {
+    reset();
+    target_ = target;
+    distance_ = distance;
 }
 
 Vec3 Camera::forward() const {
@@ -51,8 +57,7 @@ void Camera::orbit(double dx, double dy) {
 
 void Camera::pan(double dx, double dy, int viewportHeight) {
     // One pixel moves the target by the size of a pixel at the target's distance.
-    const double metresPerPixel =
-        2.0 * distance_ * std::tan(kFieldOfViewY * kPi / 360.0) / std::max(1, viewportHeight);
+    const double metresPerPixel = 2.0 * distance_ * std::tan(kFieldOfViewY * kPi / 360.0) / std::max(1, viewportHeight);
     target_ += metresPerPixel * (-dx * right() + dy * up());
 }
 

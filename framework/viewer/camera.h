@@ -24,10 +24,12 @@ public:
     void reset();
     /// The default direction, moved and zoomed so that every sphere and box is in view.
     void frame(const std::vector<Body>& bodies);
+    /// The default direction, looking at target from distance (m).
+    void lookAt(const Vec3& target, double distance);
 
-    void orbit(double dxPixels, double dyPixels);              ///< left drag
+    void orbit(double dxPixels, double dyPixels);                    ///< left drag
     void pan(double dxPixels, double dyPixels, int viewportHeight);  ///< right drag
-    void zoom(double wheelSteps);                              ///< > 0 moves closer
+    void zoom(double wheelSteps);                                    ///< > 0 moves closer
     void setFlying(bool on) { flying_ = on; }
     bool flying() const { return flying_; }
     /// Fly: moves eye and target by (right, up, forward) metres.
@@ -49,8 +51,8 @@ public:
 
 private:
     Vec3 target_;
-    double yaw_ = 0.0;    ///< rad, 0 looks along -z
-    double pitch_ = 0.0;  ///< rad, > 0 looks down
+    double yaw_ = 0.0;       ///< rad, 0 looks along -z
+    double pitch_ = 0.0;     ///< rad, > 0 looks down
     double distance_ = 1.0;  ///< m, eye to target
     bool flying_ = false;
 };

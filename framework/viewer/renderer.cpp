@@ -13,7 +13,7 @@ constexpr double kPi = 3.14159265358979323846;
 const float kSky[4] = {0.80f, 0.85f, 0.90f, 1.0f};
 
 void colourOf(const Body& b, std::size_t index, std::uint8_t out[4]) {
-    static const std::uint8_t palette[][3] = {{242, 140, 51}, {51, 166, 178}, {217, 77, 77},
+    static const std::uint8_t palette[][3] = {{242, 140, 51}, {51, 166, 178},  {217, 77, 77},
                                               {102, 184, 89}, {153, 115, 204}, {235, 199, 64}};
     static const std::uint8_t grey[3] = {140, 148, 160};
     const std::uint8_t* c = b.isStatic() ? grey : palette[index % 6];
@@ -114,8 +114,7 @@ void Renderer::Batch::draw(unsigned mode) const {
 Renderer::Renderer()
     : sphere_{sphereMesh(32, 20), sphereMesh(14, 9), sphereMesh(8, 6)}, cube_(cubeMesh()), disc_(discMesh(16)) {}
 
-void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], const Camera& camera,
-                      int height) const {
+void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], const Camera& camera, int height) const {
     if (b.shape == Shape::Sphere) {
         // Level of detail from the radius on screen (pixels); a sphere looks the same turned.
         const double depth = std::max(0.1, (b.position - camera.eye()).dot(camera.forward()));
@@ -181,7 +180,8 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         for (int i = -tiles; i < tiles; ++i) {
             for (int j = -tiles; j < tiles; ++j) {
                 const std::uint8_t shade = (i + j) % 2 ? 158 : 150;
-                const std::uint8_t rgba[4] = {shade, static_cast<std::uint8_t>(shade + 6), static_cast<std::uint8_t>(shade - 8), 255};
+                const std::uint8_t rgba[4] = {shade, static_cast<std::uint8_t>(shade + 6),
+                                              static_cast<std::uint8_t>(shade - 8), 255};
                 const Vec3 o = b.position + tile * (i * u + j * v);
                 const std::uint32_t first = solid_.add(o, n, rgba);
                 solid_.add(o + tile * u, n, rgba);
@@ -216,7 +216,8 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         if (b.shape == Shape::Plane || above < 0.0 || above > 40.0) continue;
         const Vec3 size = b.shape == Shape::Sphere ? Vec3::Constant(b.radius) : b.halfExtents;
         const double grow = 1.0 + 0.02 * above;
-        const std::uint8_t rgba[4] = {25, 25, 38, static_cast<std::uint8_t>(115 * std::clamp(1.0 - above / 40.0, 0.1, 1.0))};
+        const std::uint8_t rgba[4] = {25, 25, 38,
+                                      static_cast<std::uint8_t>(115 * std::clamp(1.0 - above / 40.0, 0.1, 1.0))};
         const Vec3 centre(b.position.x(), ground + 0.006, b.position.z());
         const auto base = static_cast<std::uint32_t>(shadows_.positions.size() / 3);
         for (const Vec3& v : disc_.vertices) shadows_.add(centre + grow * size.cwiseProduct(v), Vec3::UnitY(), rgba);

@@ -17,8 +17,7 @@ namespace gpl::viewer {
 class Renderer {
 public:
     Renderer();
-    void draw(const Session& session, const Camera& camera, int width, int height,
-              std::optional<std::size_t> hovered);
+    void draw(const Session& session, const Camera& camera, int width, int height, std::optional<std::size_t> hovered);
 
     /// Indexed vertices (llvmpipe shades each vertex once however many triangles share it).
     struct Mesh {

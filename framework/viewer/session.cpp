@@ -141,7 +141,8 @@ std::string Session::uniqueName(const std::string& stem) const {
 }
 
 void Session::shoot(const Ray& from, double speed) {
-    engine_.add(sphere(uniqueName("shot"), 0.3, 1.0).at(from.origin + 1.0 * from.direction).moving(speed * from.direction));
+    engine_.add(
+        sphere(uniqueName("shot"), 0.3, 1.0).at(from.origin + 1.0 * from.direction).moving(speed * from.direction));
     ++shots_;
     edited_ = true;
 }

@@ -31,7 +31,7 @@ struct EnergySeries {
 class Session {
 public:
     static constexpr std::size_t kHistoryBytes = 256u << 20;  ///< memory for the step-back history
-    static constexpr int kMaxStepsPerFrame = 64;             ///< beyond this, time is dropped
+    static constexpr int kMaxStepsPerFrame = 64;              ///< beyond this, time is dropped
 
     explicit Session(const Scene& scene);
 

@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
     app.add_option("--out", o.out, "folder for frames (with --frames: every frame) and screenshots");
     app.add_option("--record", o.record, "record every frame as PNG into this folder from the start");
     app.add_option("--steps", o.presteps, "time steps to take before the first frame")->check(CLI::NonNegativeNumber);
+    app.add_option("--dt", o.dt, "time step in seconds (default: the scene's)")->check(CLI::PositiveNumber);
     app.add_option("--script", o.script, "input commands separated by ';' (for tests and demos)");
     app.add_option("--width", o.width, "window width (pixels)")->check(CLI::Range(64, 8192));
     app.add_option("--height", o.height, "window height (pixels)")->check(CLI::Range(64, 8192));

@@ -188,5 +188,35 @@ class Window(unittest.TestCase):
         self.assertEqual(rc, 0, log)
 
 
+@unittest.skipUnless(SOLUTIONS and ASSIGNMENTS, "run by CTest after the build")
+class LabCommands(unittest.TestCase):
+    """The commands a newcomer types, without a display."""
+
+    def lab(self, *args):
+        env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+        return subprocess.run([str(ROOT / "lab"), *map(str, args)], capture_output=True, text=True, env=env,
+                              cwd=ROOT, timeout=300)
+
+    def test_viewer_headless_writes_frames(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            proc = self.lab("viewer", "--solutions", "--headless", "projectile", "--frames", 3, "--out", tmp)
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(tmp).iterdir()),
+                             ["frame_00001.png", "frame_00002.png", "frame_00003.png"])
+
+    def test_viewer_without_a_display_says_what_to_do(self):
+        proc = self.lab("viewer")
+        self.assertEqual(proc.returncode, 2)
+        self.assertIn("--headless", proc.stderr)
+
+    def test_run_without_a_display_prints_the_summary_and_a_snapshot(self):
+        proc = self.lab("run", "--solutions", "--scene", "2", "--steps", 50)
+        self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+        self.assertIn("total energy:", proc.stdout)
+        snapshot = ROOT / "build" / "snapshots" / "masses.png"
+        self.assertIn(str(snapshot.relative_to(ROOT)), proc.stdout)
+        self.assertGreater(not_sky_fraction(snapshot), 0.2)
+
+
 if __name__ == "__main__":
     unittest.main()

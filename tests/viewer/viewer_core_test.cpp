@@ -64,7 +64,8 @@ TEST(Camera, FlyMovesAlongTheViewAndLookTurnsAboutTheEye) {
 
 TEST(Camera, FrameShowsEveryBody) {
     const std::vector<Body> bodies = {sphere("a", 0.5, 1.0).at({-30.0, 2.0, 5.0}),
-                                      box("b", {1.0, 1.0, 1.0}, 1.0).at({25.0, 40.0, -10.0}), plane("p", Vec3::UnitY())};
+                                      box("b", {1.0, 1.0, 1.0}, 1.0).at({25.0, 40.0, -10.0}),
+                                      plane("p", Vec3::UnitY())};
     Camera c;
     c.frame(bodies);
     for (const Body& b : bodies) {
@@ -132,7 +133,8 @@ TEST(Picking, SpheresAndBoxesButNotPlanes) {
     const Body turned = box("t", {1.0, 1.0, 1.0}, 1.0).rotated(Quat(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ())));
     EXPECT_NEAR(*intersect(turned, down), 10.0 - std::sqrt(2.0), 1e-9);
     EXPECT_FALSE(intersect(plane("p", Vec3::UnitY()), down));
-    const std::vector<Body> bodies = {sphere("far", 1.0, 1.0).at({0.0, 0.0, 0.0}), sphere("near", 1.0, 1.0).at({0.0, 5.0, 0.0})};
+    const std::vector<Body> bodies = {sphere("far", 1.0, 1.0).at({0.0, 0.0, 0.0}),
+                                      sphere("near", 1.0, 1.0).at({0.0, 5.0, 0.0})};
     EXPECT_EQ(pick(bodies, down)->index, 1u);
     EXPECT_FALSE(pick(bodies, Ray{Vec3(0.0, 10.0, 0.0), Vec3(0.0, 1.0, 0.0)}));
 }

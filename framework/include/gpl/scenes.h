@@ -19,6 +19,9 @@ struct Scene {
     StageSet stages;                            ///< the stages the scene requires
     double timeStep = kDefaultTimeStep;         ///< s
     std::function<void(PhysicsEngine&)> build;  ///< adds the bodies
+    // Where the viewer looks first; a distance of 0 frames the bodies as they start.
+    Vec3 viewTarget = Vec3::Zero();  ///< m
+    double viewDistance = 0.0;       ///< m
 };
 
 class SceneRegistry {
