@@ -183,6 +183,32 @@ class Window(unittest.TestCase):
         self.assertEqual(rc, 2)
         self.assertIn("cannot create the folder", log)
 
+    def test_real_x_events_reach_the_handlers(self):
+        # xdotool sends real key, button, motion and wheel events through the X server to the window.
+        script = self.tmp / "events.sh"
+        script.write_text(f"""#!/bin/sh
+"{SOLUTIONS}" static-and-movable --script "dump; wait 900; dump; quit" &
+viewer=$!
+window=$(xdotool search --sync --name "Game Physics Lab" | head -1)
+xdotool mousemove --window "$window" 560 650
+xdotool windowfocus --sync "$window" 2>/dev/null
+xdotool key --window "$window" g
+xdotool key --window "$window" space
+xdotool click 4
+xdotool mousedown 1 mousemove 620 600 mouseup 1
+wait $viewer
+""")
+        script.chmod(0o755)
+        proc = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", str(script)],
+                              capture_output=True, text=True, timeout=120)
+        self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+        states = [json.loads(l[len("state "):]) for l in proc.stdout.splitlines() if l.startswith("state ")]
+        start, end = states
+        self.assertFalse(end["gravity"], "key g")
+        self.assertTrue(end["paused"], "key space")
+        self.assertLess(end["camera_distance"], start["camera_distance"], "wheel up zooms in")
+        self.assertNotEqual(end["camera_eye"], start["camera_eye"], "a left drag on the floor orbits")
+
     def test_escape_quits_cleanly(self):
         rc, states, log = viewer(SOLUTIONS, "--script", "wait 3; key esc")
         self.assertEqual(rc, 0, log)
