@@ -11,6 +11,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 const float kSky[4] = {0.80f, 0.85f, 0.90f, 1.0f};
+constexpr double kShadowHeight = 15.0;  // m above the ground where blob shadows have faded out
 
 void colourOf(const Body& b, std::size_t index, std::uint8_t out[4]) {
     static const std::uint8_t palette[][3] = {{242, 140, 51}, {51, 166, 178},  {217, 77, 77},
@@ -73,8 +74,8 @@ Renderer::Mesh discMesh(int segments) {
 }
 
 // Height of the ground: the highest upward-facing plane, or 0 when the scene has none.
-double groundHeight(const std::vector<Body>& bodies) {
-    bool found = false;
+double groundHeight(const std::vector<Body>& bodies, bool& found) {
+    found = false;
     double y = 0.0;
     for (const Body& b : bodies) {
         if (b.shape != Shape::Plane || (b.orientation * b.normal).y() < 0.99) continue;
@@ -112,14 +113,14 @@ void Renderer::Batch::draw(unsigned mode) const {
 }
 
 Renderer::Renderer()
-    : sphere_{sphereMesh(32, 20), sphereMesh(14, 9), sphereMesh(8, 6)}, cube_(cubeMesh()), disc_(discMesh(16)) {}
+    : sphere_{sphereMesh(28, 18), sphereMesh(12, 8), sphereMesh(7, 5)}, cube_(cubeMesh()), disc_(discMesh(10)) {}
 
 void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], const Camera& camera, int height) const {
     if (b.shape == Shape::Sphere) {
         // Level of detail from the radius on screen (pixels); a sphere looks the same turned.
         const double depth = std::max(0.1, (b.position - camera.eye()).dot(camera.forward()));
         const double pixels = b.radius / depth * height / (2.0 * std::tan(Camera::kFieldOfViewY * kPi / 360.0));
-        const Mesh& m = sphere_[pixels > 60 ? 0 : pixels > 15 ? 1 : 2];
+        const Mesh& m = sphere_[pixels > 50 ? 0 : pixels > 14 ? 1 : 2];
         const auto base = static_cast<std::uint32_t>(batch.positions.size() / 3);
         for (const Vec3& v : m.vertices) batch.add(b.position + b.radius * v, v, rgba);
         for (std::uint32_t i : m.indices) batch.indices.push_back(base + i);
@@ -168,15 +169,16 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     glFogf(GL_FOG_END, static_cast<float>(camera.distance() * 5.0 + 60.0));
 
     // Planes as checkered tiles (fog is computed per vertex, so a plane needs many vertices).
-    const double ground = groundHeight(bodies);
+    bool hasFloor = false;
+    const double ground = groundHeight(bodies, hasFloor);
     solid_.clear();
     for (const Body& b : bodies) {
         if (b.shape != Shape::Plane) continue;
         const Vec3 n = (b.orientation * b.normal).normalized();
         const Vec3 u = (std::abs(n.y()) < 0.9 ? n.cross(Vec3::UnitY()) : n.cross(Vec3::UnitX())).normalized();
         const Vec3 v = n.cross(u);
-        const int tiles = 30;
-        const double tile = 4.0;  // m
+        const int tiles = 15;
+        const double tile = 8.0;  // m
         for (int i = -tiles; i < tiles; ++i) {
             for (int j = -tiles; j < tiles; ++j) {
                 const std::uint8_t shade = (i + j) % 2 ? 158 : 150;
@@ -195,10 +197,10 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     solid_.draw(GL_TRIANGLES);
     glEnable(GL_CULL_FACE);
 
-    // The grid: 1 m lines, every fifth darker.
+    // Without a floor, a grid of 1 m lines (every fifth darker) at height 0 shows where down is.
     glDisable(GL_LIGHTING);
     lines_.clear();
-    for (int i = -30; i <= 30; ++i) {
+    for (int i = -30; i <= 30 && !hasFloor; ++i) {
         const std::uint8_t s = i % 5 == 0 ? 100 : 135;
         const std::uint8_t rgba[4] = {s, s, static_cast<std::uint8_t>(s + 8), 255};
         const double y = ground + 0.003;
@@ -209,11 +211,12 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     }
     lines_.draw(GL_LINES);
 
-    // Blob shadows under every body: discs for spheres, ellipses for boxes, paler when higher.
+    // Blob shadows under every body: discs for spheres, ellipses for boxes, paler when higher and
+    // gone above 15 m (where they would only cost time).
     shadows_.clear();
     for (const Body& b : bodies) {
         const double above = b.position.y() - ground;
-        if (b.shape == Shape::Plane || above < 0.0 || above > 40.0) continue;
+        if (b.shape == Shape::Plane || above < 0.0 || above > kShadowHeight) continue;
         const Vec3 size = b.shape == Shape::Sphere ? Vec3::Constant(b.radius) : b.halfExtents;
         const double grow = 1.0 + 0.02 * above;
         const std::uint8_t rgba[4] = {25, 25, 38,
