@@ -213,6 +213,18 @@ void PhysicsEngine::projectConstraints() {
     std::vector<Vec3> before;
     for (const Body& b : bodies_) before.push_back(b.position);
     for (int sweep = 0; sweep < constraintIterations_; ++sweep) {
+        if (collisions) {
+            for (std::size_t i = 0; i < bodies_.size(); ++i) {
+                Body& a = bodies_[i];
+                if (a.shape != Shape::Sphere) continue;
+                for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
+                    Body& b = bodies_[j];
+                    if (b.shape != Shape::Sphere) continue;
+                    separateSpheres(a.position, b.position, a.radius, b.radius, a.invMass, b.invMass);
+                }
+            }
+        }
+        // Constraints last, so that the container and the rods have the final word in each sweep.
         if (constraints) {
             for (const DistanceConstraint& c : distances_) {
                 Body& a = bodies_[c.a];
@@ -222,17 +234,6 @@ void PhysicsEngine::projectConstraints() {
             if (container_) {
                 for (Body& b : bodies_) {
                     if (!b.isStatic() && b.shape == Shape::Sphere) keepInside(b.position, b.radius, *container_);
-                }
-            }
-        }
-        if (collisions) {
-            for (std::size_t i = 0; i < bodies_.size(); ++i) {
-                Body& a = bodies_[i];
-                if (a.shape != Shape::Sphere) continue;
-                for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
-                    Body& b = bodies_[j];
-                    if (b.shape != Shape::Sphere) continue;
-                    separateSpheres(a.position, b.position, a.radius, b.radius, a.invMass, b.invMass);
                 }
             }
         }

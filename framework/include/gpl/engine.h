@@ -108,8 +108,8 @@ public:
     /// worksheet-1 hook integrator(); the others are the kernels of gpl/integrators.h, started
     /// from the accumulators and evaluating accelerations() at intermediate states.
     void integrate();
-    /// Moves positions, constraintIterations() times in turn: distance constraints and the
-    /// container (stage Constraints), overlapping spheres apart (stage ParticleCollisions). Each
+    /// Moves positions, constraintIterations() times in turn: overlapping spheres apart (stage
+    /// ParticleCollisions), then distance constraints and the container (stage Constraints). Each
     /// body's velocity gains its displacement divided by h, so the motion follows the correction.
     void projectConstraints();
     /// The engine's force model at any state of all bodies (index as bodies()): gravity and springs
