@@ -118,8 +118,10 @@ void writeSweep(Output& out, std::ofstream& csv, std::ofstream& orders, const Sw
         }
         dat << "\n\n";
         const study::Order& o = s.orders.at(m);
+        const bool exact = s.runs.at(m).front().error < 1e-9 * p.scale;
         orders << p.id << ',' << gpl::integratorId(m) << ',' << gpl::theoreticalOrder(m) << ','
-               << (o.points ? std::to_string(o.slope) : std::string("exact")) << ',' << o.points << '\n';
+               << (o.points ? std::to_string(o.slope) : exact ? std::string("exact") : std::string("n/a")) << ','
+               << o.points << '\n';
     }
 }
 
