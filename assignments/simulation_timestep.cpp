@@ -12,8 +12,15 @@ void PhysicsEngine::simulationTimestep() {
     // Forces: gravity into the acceleration accumulator of every movable body.
     notImplemented("simulationTimestep()");
 
-    // Integrate: advance velocities and positions by one time step.
-    if (stageActive(Stage::Integration)) integrator();
+    // Forces: springs add theirs (worksheet 2).
+    if (stageActive(Stage::Springs)) applySpringForces();
+
+    // Integrate: advance velocities and positions by one time step with the chosen integrator
+    // (integrator() for semi-implicit Euler).
+    if (stageActive(Stage::Integration)) integrate();
+
+    // Constraints: move positions onto rods, chains and the container, and spheres apart (worksheet 2).
+    if (stageActive(Stage::Constraints) || stageActive(Stage::ParticleCollisions)) projectConstraints();
 }
 
 }  // namespace gpl

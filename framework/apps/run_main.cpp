@@ -23,11 +23,15 @@ int main(int argc, char** argv) {
     long long steps = 500;
     double dt = NAN;
     std::string csvPath;
+    std::string integrator;
     bool list = false;
     app.add_option("--scene,-s", sceneName, "scene name or key (1-9, 0, F1-F12)");
     app.add_option("--steps,-n", steps, "number of time steps");
     app.add_option("--dt", dt, "time step in seconds (default: the scene's)");
     app.add_option("--csv", csvPath, "write one row per body and step to this file");
+    app.add_option(
+        "--integrator", integrator,
+        "explicit-euler, semi-implicit-euler, position-verlet, velocity-verlet or rk4 (default: the scene's)");
     app.add_flag("--list", list, "list the scenes and exit");
     CLI11_PARSE(app, argc, argv);
 
@@ -45,6 +49,7 @@ int main(int argc, char** argv) {
         scene = &gpl::scenes().find(sceneName);
         gpl::load(engine, *scene);
         if (app.count("--dt")) engine.setTimeStep(dt);
+        if (!integrator.empty()) engine.setIntegratorKind(gpl::integratorFromId(integrator));
     } catch (const std::exception& e) {
         return fail(e.what());
     }

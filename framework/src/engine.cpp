@@ -1,5 +1,6 @@
 #include "gpl/engine.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <mutex>
@@ -29,18 +30,116 @@ const Body& PhysicsEngine::body(const std::string& name) const { return const_ca
 void PhysicsEngine::remove(std::size_t index) {
     if (index >= bodies_.size()) throw std::out_of_range("no body number " + std::to_string(index));
     bodies_.erase(bodies_.begin() + static_cast<std::ptrdiff_t>(index));
+    if (!previousPositions_.empty())
+        previousPositions_.erase(previousPositions_.begin() + static_cast<std::ptrdiff_t>(index));
+    // Springs and constraints on the body go with it; those on later bodies follow the new numbering.
+    const auto dropAndRenumber = [index](auto& links) {
+        links.erase(
+            std::remove_if(links.begin(), links.end(), [index](const auto& l) { return l.a == index || l.b == index; }),
+            links.end());
+        for (auto& l : links) {
+            if (l.a > index) --l.a;
+            if (l.b > index) --l.b;
+        }
+    };
+    dropAndRenumber(springs_);
+    dropAndRenumber(distances_);
 }
 
 void PhysicsEngine::restore(const State& s) {
     bodies_ = s.bodies;
     time_ = s.time;
     steps_ = s.steps;
+    previousPositions_ = s.previousPositions;
 }
 
 void PhysicsEngine::clear() {
     bodies_.clear();
+    springs_.clear();
+    distances_.clear();
+    container_.reset();
+    previousPositions_.clear();
     time_ = 0.0;
     steps_ = 0;
+}
+
+std::size_t PhysicsEngine::bodyIndex(const std::string& name) const {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        if (bodies_[i].name == name) return i;
+    }
+    throw std::invalid_argument("no body named '" + name + "'");
+}
+
+namespace {
+
+void requireTwoEnds(const std::vector<Body>& bodies, std::size_t a, std::size_t b, const char* what) {
+    if (a == b)
+        throw std::invalid_argument(std::string(what) + " needs two different bodies, got '" + bodies[a].name +
+                                    "' twice");
+    if (bodies[a].isStatic() && bodies[b].isStatic()) {
+        throw std::invalid_argument(std::string(what) + " between '" + bodies[a].name + "' and '" + bodies[b].name +
+                                    "': both are static, so it could never act");
+    }
+}
+
+}  // namespace
+
+std::size_t PhysicsEngine::addSpring(const std::string& a, const std::string& b, double stiffness, double damping,
+                                     double restLength) {
+    Spring s;
+    s.a = bodyIndex(a);
+    s.b = bodyIndex(b);
+    requireTwoEnds(bodies_, s.a, s.b, "a spring");
+    const std::string where = "spring '" + a + "'-'" + b + "': ";
+    if (!std::isfinite(stiffness) || stiffness <= 0.0) {
+        throw std::invalid_argument(where + "stiffness must be a positive finite number of N/m, got " +
+                                    formatNumber(stiffness));
+    }
+    if (!std::isfinite(damping) || damping < 0.0) {
+        throw std::invalid_argument(where + "damping must be a finite number >= 0 N s/m, got " + formatNumber(damping));
+    }
+    if (!std::isfinite(restLength)) {
+        throw std::invalid_argument(where + "rest length must be finite, got " + formatNumber(restLength));
+    }
+    s.stiffness = stiffness;
+    s.damping = damping;
+    s.restLength = restLength < 0.0 ? (bodies_[s.a].position - bodies_[s.b].position).norm() : restLength;
+    springs_.push_back(s);
+    return springs_.size() - 1;
+}
+
+std::size_t PhysicsEngine::addDistanceConstraint(const std::string& a, const std::string& b) {
+    DistanceConstraint c;
+    c.a = bodyIndex(a);
+    c.b = bodyIndex(b);
+    requireTwoEnds(bodies_, c.a, c.b, "a distance constraint");
+    c.length = (bodies_[c.a].position - bodies_[c.b].position).norm();
+    if (c.length == 0.0) {
+        throw std::invalid_argument("distance constraint '" + a + "'-'" + b + "': the bodies are at the same place");
+    }
+    distances_.push_back(c);
+    return distances_.size() - 1;
+}
+
+void PhysicsEngine::setContainer(const Vec3& centre, double radius) {
+    if (!isFinite(centre)) throw std::invalid_argument("container centre must be finite");
+    if (!std::isfinite(radius) || radius <= 0.0) {
+        throw std::invalid_argument("container radius must be a positive finite number of metres, got " +
+                                    formatNumber(radius));
+    }
+    container_ = Container{centre, radius};
+}
+
+void PhysicsEngine::setIntegratorKind(Integrator kind) {
+    integratorKind_ = kind;
+    previousPositions_.clear();
+}
+
+void PhysicsEngine::setConstraintIterations(int iterations) {
+    if (iterations < 1) {
+        throw std::invalid_argument("constraint iterations must be at least 1, got " + std::to_string(iterations));
+    }
+    constraintIterations_ = iterations;
 }
 
 void PhysicsEngine::setGravity(const Vec3& g) {
@@ -53,6 +152,7 @@ void PhysicsEngine::setTimeStep(double h) {
         throw std::invalid_argument("time step must be a positive finite number of seconds, got " + formatNumber(h));
     }
     timeStep_ = h;
+    previousPositions_.clear();  // x_{n-1} belongs to the old step
 }
 
 void PhysicsEngine::setStageEnabled(Stage stage, bool on) {
@@ -81,6 +181,95 @@ void PhysicsEngine::updateConstantAcceleration() {
     }
 }
 
+void PhysicsEngine::accelerations(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& a) const {
+    a.assign(x.size(), Vec3::Zero());
+    if (stageActive(Stage::ConstantAcceleration)) {
+        for (std::size_t i = 0; i < bodies_.size(); ++i) {
+            if (!bodies_[i].isStatic()) a[i] = gravity_;
+        }
+    }
+    if (stageActive(Stage::Springs)) {
+        for (const Spring& s : springs_) {
+            const Vec3 f = springForce(x[s.a], x[s.b], v[s.a], v[s.b], s.stiffness, s.restLength, s.damping);
+            a[s.a] += bodies_[s.a].invMass * f;
+            a[s.b] -= bodies_[s.b].invMass * f;
+        }
+    }
+}
+
+void PhysicsEngine::applySpringForces() {
+    for (const Spring& s : springs_) {
+        Body& a = bodies_[s.a];
+        Body& b = bodies_[s.b];
+        const Vec3 f =
+            springForce(a.position, b.position, a.velocity, b.velocity, s.stiffness, s.restLength, s.damping);
+        a.acceleration += a.invMass * f;
+        b.acceleration -= b.invMass * f;
+    }
+}
+
+void PhysicsEngine::integrate() {
+    if (integratorKind_ == Integrator::SemiImplicitEuler) {
+        integrator();  // the worksheet-1 hook
+        return;
+    }
+    ParticleState s;
+    for (const Body& b : bodies_) {
+        s.x.push_back(b.position);
+        s.v.push_back(b.velocity);
+        s.a.push_back(b.acceleration);
+    }
+    if (integratorKind_ == Integrator::PositionVerlet) s.xPrev = std::move(previousPositions_);
+    const AccelerationFunction accel = [this](const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                                              std::vector<Vec3>& a) { accelerations(x, v, a); };
+    gpl::integrate(integratorKind_, s, accel, timeStep_);
+    for (const std::string& hook : kernelsNotImplemented()) missing_.insert(hook);
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Body& b = bodies_[i];
+        if (b.isStatic()) continue;
+        b.position = s.x[i];
+        b.velocity = s.v[i];
+        b.acceleration = s.a[i];
+    }
+    previousPositions_ = std::move(s.xPrev);
+}
+
+void PhysicsEngine::projectConstraints() {
+    const bool constraints = stageActive(Stage::Constraints);
+    const bool collisions = stageActive(Stage::ParticleCollisions);
+    std::vector<Vec3> before;
+    for (const Body& b : bodies_) before.push_back(b.position);
+    for (int sweep = 0; sweep < constraintIterations_; ++sweep) {
+        if (collisions) {
+            for (std::size_t i = 0; i < bodies_.size(); ++i) {
+                Body& a = bodies_[i];
+                if (a.shape != Shape::Sphere) continue;
+                for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
+                    Body& b = bodies_[j];
+                    if (b.shape != Shape::Sphere) continue;
+                    separateSpheres(a.position, b.position, a.radius, b.radius, a.invMass, b.invMass);
+                }
+            }
+        }
+        // Constraints last, so that the container and the rods have the final word in each sweep.
+        if (constraints) {
+            for (const DistanceConstraint& c : distances_) {
+                Body& a = bodies_[c.a];
+                Body& b = bodies_[c.b];
+                projectDistance(a.position, b.position, a.invMass, b.invMass, c.length);
+            }
+            if (container_) {
+                for (Body& b : bodies_) {
+                    if (!b.isStatic() && b.shape == Shape::Sphere) keepInside(b.position, b.radius, *container_);
+                }
+            }
+        }
+    }
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        bodies_[i].velocity += (bodies_[i].position - before[i]) / timeStep_;
+    }
+}
+
 void PhysicsEngine::notImplemented(const std::string& hook) {
     if (!missing_.insert(hook).second) return;
     static std::mutex mutex;
@@ -98,6 +287,9 @@ double PhysicsEngine::kineticEnergy() const {
 double PhysicsEngine::potentialEnergy() const {
     double e = 0.0;
     for (const Body& b : bodies_) e += gpl::potentialEnergy(b, gravity_);
+    for (const Spring& s : springs_) {
+        e += springEnergy(bodies_[s.a].position, bodies_[s.b].position, s.stiffness, s.restLength);
+    }
     return e;
 }
 

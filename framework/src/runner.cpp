@@ -64,7 +64,8 @@ std::string describe(const RunSummary& s, const PhysicsEngine& e) {
     std::ostringstream out;
     out << std::setprecision(6);
     out << "steps: " << s.steps << " of h = " << e.timeStep() << " s (" << s.simulatedTime << " s simulated), "
-        << e.bodies().size() << " bodies, stages: " << e.requiredStages().names() << '\n';
+        << e.bodies().size() << " bodies, stages: " << e.requiredStages().names()
+        << ", integrator: " << integratorName(e.integratorKind()) << '\n';
     const double drift = s.finalEnergy - s.initialEnergy;
     out << "total energy: " << s.initialEnergy << " J -> " << s.finalEnergy << " J (drift " << std::showpos << drift
         << std::noshowpos << " J";

@@ -50,6 +50,7 @@ const SceneRegistry& scenes() {
     static const SceneRegistry registry = [] {
         SceneRegistry r;
         addWorksheet1Scenes(r);
+        addWorksheet2Scenes(r);
         addStudentScenes(r);
         return r;
     }();
@@ -61,6 +62,7 @@ void load(PhysicsEngine& engine, const Scene& scene) {
     engine.setGravity(standardGravity());
     engine.setTimeStep(scene.timeStep);
     engine.setRequiredStages(scene.stages);
+    engine.setIntegratorKind(scene.integrator);
     if (scene.build) scene.build(engine);
 }
 

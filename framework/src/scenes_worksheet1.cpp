@@ -73,7 +73,7 @@ void addWorksheet1Scenes(SceneRegistry& r) {
     r.add({"masses", "2", "Spheres and boxes from 0.1 kg to 1000 kg dropped side by side: all fall alike.", 1,
            kFreeFall, kDefaultTimeStep, massesSideBySide});
     r.add({"projectile", "3", "A ball thrown at 45 degrees with 15 m/s: a parabola.", 1, kFreeFall, kDefaultTimeStep,
-           projectile});
+           projectile, Integrator::SemiImplicitEuler, Vec3(1.5, 3.0, 0.0), 30.0});
     r.add({"static-and-movable", "4", "A floor, a shelf and a pillar that stay put, and three bodies that fall.", 1,
            kFreeFall, kDefaultTimeStep, staticAndMovable});
     r.add({"thousand-bodies", "0", "1000 spheres and boxes in free fall (no collisions yet): a load for the viewer.", 1,

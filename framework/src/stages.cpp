@@ -6,8 +6,14 @@ const char* stageName(Stage stage) {
     switch (stage) {
         case Stage::ConstantAcceleration:
             return "gravity";
+        case Stage::Springs:
+            return "springs";
         case Stage::Integration:
             return "integrate";
+        case Stage::Constraints:
+            return "constraints";
+        case Stage::ParticleCollisions:
+            return "particle collisions";
         case Stage::Count:
             break;
     }

@@ -28,6 +28,7 @@ const std::vector<std::pair<std::string, std::string>>& bindings() {
         {"+ / -", "faster / slower (slow motion)"},
         {"r", "reset the scene"},
         {"g", "gravity on / off"},
+        {"m", "next integrator (explicit Euler, semi-implicit Euler, Verlet, RK4)"},
         {"x", "shoot a sphere from the camera"},
         {"i", "insert a box at the camera's target"},
         {"Delete, Backspace", "remove the selected body"},
@@ -637,6 +638,7 @@ std::string App::state() const {
     j["speed"] = session_.speed();
     j["substeps"] = session_.substeps();
     j["gravity"] = session_.gravityOn();
+    j["integrator"] = integratorId(e.integratorKind());
     j["bodies"] = e.bodies().size();
     j["selected"] = session_.selectedBody() ? nlohmann::json(session_.selectedBody()->name) : nlohmann::json();
     j["hovered"] = hovered_ ? nlohmann::json(e.bodies()[*hovered_].name) : nlohmann::json();
@@ -675,8 +677,8 @@ void App::drawOverlay() {
     ImGui::Text("t = %.2f s   step %zu   h = %s s x %d   speed x%s%s", e.time(), e.stepCount(),
                 formatNumber(session_.tick()).c_str(), session_.substeps(), formatNumber(session_.speed()).c_str(),
                 session_.paused() ? "   PAUSED" : "");
-    ImGui::Text("stages: %s   gravity %s   %.0f fps", e.requiredStages().names().c_str(),
-                session_.gravityOn() ? "on" : "off", ImGui::GetIO().Framerate);
+    ImGui::Text("%s   stages: %s   gravity %s   %.0f fps", integratorName(e.integratorKind()),
+                e.requiredStages().names().c_str(), session_.gravityOn() ? "on" : "off", ImGui::GetIO().Framerate);
     if (!e.missingHooks().empty()) {
         std::string hooks;
         for (const auto& h : e.missingHooks()) hooks += (hooks.empty() ? "" : ", ") + h;
@@ -691,7 +693,8 @@ void App::drawOverlay() {
         ImGui::Text("reference ghost: largest difference %.4g m (%s)", d,
                     worst < e.bodies().size() ? e.bodies()[worst].name.c_str() : "-");
     }
-    if (!recording_.empty() && options_.frames == 0) ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
+    if (!recording_.empty() && options_.frames == 0)
+        ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
     if (!message_.empty() && SteadyClock::now() < messageUntil_) ImGui::Text("%s", message_.c_str());
     ImGui::TextDisabled("h: help   Tab: panel");
     ImGui::End();
@@ -748,7 +751,12 @@ void App::drawPanel() {
         if (ImGui::InputFloat3("gravity (m/s^2)", g, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue)) {
             e.setGravity(Vec3(g[0], g[1], g[2]));
         }
-        ImGui::Text("integrator: semi-implicit Euler, your integrator()");
+        if (ImGui::BeginCombo("integrator", integratorName(e.integratorKind()))) {
+            for (Integrator kind : kIntegrators) {
+                if (ImGui::Selectable(integratorName(kind), kind == e.integratorKind())) session_.setIntegrator(kind);
+            }
+            ImGui::EndCombo();
+        }
         ImGui::Text("stages (required by the scene):");
         for (std::size_t i = 0; i < kStageCount; ++i) {
             const auto stage = static_cast<Stage>(i);

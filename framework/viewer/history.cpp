@@ -3,7 +3,7 @@
 namespace gpl::viewer {
 
 std::size_t History::bytesOf(const PhysicsEngine::State& s) {
-    std::size_t n = sizeof(s);
+    std::size_t n = sizeof(s) + s.previousPositions.capacity() * sizeof(Vec3);
     for (const Body& b : s.bodies) n += sizeof(Body) + b.name.capacity();
     return n;
 }

@@ -9,10 +9,12 @@ namespace {
 
 class World : public ReferenceWorld {
 public:
-    void load(const std::string& scene, double timeStep, const std::array<double, 3>& g) override {
+    void load(const std::string& scene, double timeStep, const std::array<double, 3>& g,
+              const std::string& integrator) override {
         gpl::load(engine_, gpl::scenes().find(scene));
         engine_.setTimeStep(timeStep);
         engine_.setGravity(gpl::Vec3(g[0], g[1], g[2]));
+        engine_.setIntegratorKind(gpl::integratorFromId(integrator));
     }
     void step() override { engine_.step(); }
     std::vector<std::array<double, 7>> poses() const override {

@@ -14,8 +14,10 @@ namespace gplref {
 class ReferenceWorld {
 public:
     virtual ~ReferenceWorld() = default;
-    /// Loads the scene by name with the given time step (s) and gravity (m/s^2).
-    virtual void load(const std::string& scene, double timeStep, const std::array<double, 3>& gravity) = 0;
+    /// Loads the scene by name with the given time step (s), gravity (m/s^2) and integrator (its
+    /// id, as gpl::integratorId() spells it).
+    virtual void load(const std::string& scene, double timeStep, const std::array<double, 3>& gravity,
+                      const std::string& integrator) = 0;
     virtual void step() = 0;
     /// Position (m) and orientation (w, x, y, z) of every body, in the scene's order.
     virtual std::vector<std::array<double, 7>> poses() const = 0;

@@ -246,6 +246,38 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     }
     solid_.draw(GL_TRIANGLES);
 
+    // Springs (green), rods and chain links (dark grey), the container (a wire sphere).
+    glDisable(GL_LIGHTING);
+    lines_.clear();
+    const PhysicsEngine& engine = session.engine();
+    const std::uint8_t springColour[4] = {40, 150, 60, 255}, rodColour[4] = {60, 60, 70, 255};
+    for (const Spring& sp : engine.springs()) {
+        lines_.add(bodies[sp.a].position, Vec3::UnitY(), springColour);
+        lines_.add(bodies[sp.b].position, Vec3::UnitY(), springColour);
+    }
+    for (const DistanceConstraint& c : engine.distanceConstraints()) {
+        lines_.add(bodies[c.a].position, Vec3::UnitY(), rodColour);
+        lines_.add(bodies[c.b].position, Vec3::UnitY(), rodColour);
+    }
+    if (const auto& box = engine.container()) {
+        const std::uint8_t wire[4] = {90, 100, 120, 255};
+        for (int ring = 0; ring < 3; ++ring) {  // three great circles
+            for (int j = 0; j < 48; ++j) {
+                for (int k : {j, j + 1}) {
+                    const double a = 2.0 * kPi * k / 48;
+                    Vec3 p = Vec3::Zero();
+                    p[ring] = std::cos(a);
+                    p[(ring + 1) % 3] = std::sin(a);
+                    lines_.add(box->centre + box->radius * p, Vec3::UnitY(), wire);
+                }
+            }
+        }
+    }
+    glLineWidth(2.0f);
+    lines_.draw(GL_LINES);
+    glLineWidth(1.0f);
+    glEnable(GL_LIGHTING);
+
     // The selection as a yellow wire frame; the drag spring as a line to the cursor's point.
     glDisable(GL_LIGHTING);
     const auto selected = session.selected();

@@ -93,6 +93,11 @@ void Session::setSubsteps(int n) {
     settingsChanged();
 }
 
+void Session::setIntegrator(Integrator kind) {
+    engine_.setIntegratorKind(kind);
+    settingsChanged();
+}
+
 void Session::toggleGravity() {
     engine_.setGravity(gravityOn() ? Vec3::Zero() : standardGravity());
     settingsChanged();
@@ -171,7 +176,8 @@ void Session::restartGhost() {
     if (!ghostOn_ || !reference_) return;
     try {
         const Vec3 g = engine_.gravity();
-        reference_->load(scene_->name, engine_.timeStep(), {g.x(), g.y(), g.z()});
+        reference_->load(scene_->name, engine_.timeStep(), {g.x(), g.y(), g.z()},
+                         integratorId(engine_.integratorKind()));
         ghostPoses_ = reference_->poses();
     } catch (const std::exception& e) {
         error_ = std::string("reference ghost: ") + e.what();

@@ -64,6 +64,7 @@ public:
     const FixedStepClock& clock() const { return clock_; }
 
     // ---- Interaction ---------------------------------------------------------------------------
+    void setIntegrator(Integrator kind);
     void toggleGravity();
     bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
     void select(std::optional<std::size_t> index) { selected_ = index; }

@@ -110,6 +110,36 @@ TEST(Engine, StateRoundTripsAndBodiesCanBeRemoved) {
     EXPECT_THROW(e.remove(5), std::out_of_range);
 }
 
+TEST(Engine, RemovingABodyTakesItsSpringsAndConstraintsAlong) {
+    PhysicsEngine e;
+    e.add(box("anchor", {0.1, 0.1, 0.1}, 1.0).makeStatic());
+    e.add(sphere("a", 0.2, 1.0).at({1.0, 0.0, 0.0}));
+    e.add(sphere("b", 0.2, 1.0).at({2.0, 0.0, 0.0}));
+    e.addSpring("anchor", "a", 10.0);
+    e.addSpring("a", "b", 10.0);
+    e.addDistanceConstraint("anchor", "b");
+    e.remove(1);  // "a"
+    ASSERT_EQ(e.springs().size(), 0u);
+    ASSERT_EQ(e.distanceConstraints().size(), 1u);
+    EXPECT_EQ(e.bodies()[e.distanceConstraints()[0].b].name, "b") << "renumbered";
+    EXPECT_NO_THROW(e.step());
+}
+
+TEST(Engine, RestoreReplaysPositionVerletExactly) {
+    PhysicsEngine e;
+    e.setIntegratorKind(Integrator::PositionVerlet);
+    e.add(box("anchor", {0.1, 0.1, 0.1}, 1.0).makeStatic());
+    e.add(sphere("bob", 0.2, 1.0).at({1.0, 0.0, 0.0}));
+    e.addSpring("anchor", "bob", 40.0, 0.0, 0.5);
+    for (int i = 0; i < 5; ++i) e.step();
+    const PhysicsEngine::State mid = e.state();
+    for (int i = 0; i < 5; ++i) e.step();
+    const Vec3 first = e.body("bob").position;
+    e.restore(mid);
+    for (int i = 0; i < 5; ++i) e.step();
+    EXPECT_EQ(e.body("bob").position, first) << "the previous positions come back with the state";
+}
+
 TEST(Engine, NotImplementedIsRecordedOncePerHook) {
     PhysicsEngine e;
     e.notImplemented("integrator()");

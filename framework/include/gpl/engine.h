@@ -2,18 +2,26 @@
 //
 // Student hooks (bodies in assignments/, reference bodies in solutions/):
 //   simulationTimestep()  worksheet 1: one time step, stage by stage
-//   integrator()          worksheet 1: advance velocities and positions of all bodies
+//   integrator()          worksheet 1: semi-implicit Euler for all bodies
+//   positionVerlet(), velocityVerlet()  worksheet 2: kernels in gpl/integrators.h
 // Framework-provided stages the hooks call:
 //   updateConstantAcceleration()  sets every movable body's acceleration accumulator to gravity
+//   applySpringForces()           adds the springs' accelerations to the accumulators
+//   integrate()                   one step with the chosen integrator (integrator() for semi-implicit Euler)
+//   projectConstraints()          moves positions onto rods, chains, the container; separates spheres
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "gpl/body.h"
+#include "gpl/constraints.h"
+#include "gpl/forces.h"
+#include "gpl/integrators.h"
 #include "gpl/stages.h"
 
 namespace gpl {
@@ -41,19 +49,37 @@ public:
     /// The body with this name; throws std::out_of_range when there is none.
     Body& body(const std::string& name);
     const Body& body(const std::string& name) const;
-    /// Removes the body at this index (throws std::out_of_range when there is none).
+    /// Removes the body at this index with the springs and constraints attached to it (throws
+    /// std::out_of_range when there is none).
     void remove(std::size_t index);
-    /// Removes every body and resets time and the step counter.
+    /// Removes every body, spring and constraint and the container, and resets time and the step counter.
     void clear();
 
-    /// The whole dynamic state: bodies, time and step counter (for history and replays).
+    /// The whole dynamic state: bodies, time, step counter and position Verlet's previous
+    /// positions (for history and replays).
     struct State {
         std::vector<Body> bodies;
         double time = 0.0;
         std::size_t steps = 0;
+        std::vector<Vec3> previousPositions;
     };
-    State state() const { return {bodies_, time_, steps_}; }
+    State state() const { return {bodies_, time_, steps_, previousPositions_}; }
+    /// Restores a state taken from this engine with the same bodies, springs and constraints.
     void restore(const State& s);
+
+    // ---- Springs and constraints (worksheet 2); bodies by name, checked, index returned -------------
+    /// A Hooke spring between two bodies (one may be static: an anchor). restLength < 0 means the
+    /// bodies' current distance. Throws std::invalid_argument on a bad body, a non-positive or
+    /// non-finite stiffness, a negative damping or rest length, or two static ends.
+    std::size_t addSpring(const std::string& a, const std::string& b, double stiffness, double damping = 0.0,
+                          double restLength = -1.0);
+    /// Holds two bodies at a fixed distance, their current one; same checks as addSpring().
+    std::size_t addDistanceConstraint(const std::string& a, const std::string& b);
+    /// Keeps every movable sphere inside a sphere of this centre and radius (m).
+    void setContainer(const Vec3& centre, double radius);
+    const std::vector<Spring>& springs() const { return springs_; }
+    const std::vector<DistanceConstraint>& distanceConstraints() const { return distances_; }
+    const std::optional<Container>& container() const { return container_; }
 
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }
@@ -67,6 +93,12 @@ public:
     bool stageEnabled(Stage stage) const { return !disabled_.contains(stage); }
     /// True when the stage is required by the scene and not switched off by the user.
     bool stageActive(Stage stage) const { return required_.contains(stage) && stageEnabled(stage); }
+    /// The integrator integrate() uses; changing it forgets position Verlet's previous positions.
+    Integrator integratorKind() const { return integratorKind_; }
+    void setIntegratorKind(Integrator kind);
+    /// Gauss-Seidel sweeps of projectConstraints() per step (>= 1; throws std::invalid_argument otherwise).
+    int constraintIterations() const { return constraintIterations_; }
+    void setConstraintIterations(int iterations);
 
     // ---- Time stepping ------------------------------------------------------------------------
     /// One time step: runs simulationTimestep(), advances the clock and checks that every body is
@@ -84,6 +116,21 @@ public:
     /// bodies keep a zero accumulator. Called once per step, it replaces (never adds to) the old value.
     void updateConstantAcceleration();
 
+    // ---- Framework stages (worksheet 2) ----------------------------------------------------------
+    /// Adds every spring's force divided by the mass to the two bodies' acceleration accumulators.
+    void applySpringForces();
+    /// Advances all bodies by timeStep() with integratorKind(): semi-implicit Euler is the
+    /// worksheet-1 hook integrator(); the others are the kernels of gpl/integrators.h, started
+    /// from the accumulators and evaluating accelerations() at intermediate states.
+    void integrate();
+    /// Moves positions, constraintIterations() times in turn: overlapping spheres apart (stage
+    /// ParticleCollisions), then distance constraints and the container (stage Constraints). Each
+    /// body's velocity gains its displacement divided by h, so the motion follows the correction.
+    void projectConstraints();
+    /// The engine's force model at any state of all bodies (index as bodies()): gravity and springs
+    /// where their stages are active, divided by the mass; zero for static bodies (m/s^2).
+    void accelerations(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& a) const;
+
     // ---- Hooks not implemented yet ------------------------------------------------------------
     /// Called by a stub: records the hook and prints "not implemented: <hook>" once per process.
     void notImplemented(const std::string& hook);
@@ -92,7 +139,7 @@ public:
 
     // ---- Diagnostics (world) --------------------------------------------------------------------
     double kineticEnergy() const;    ///< J
-    double potentialEnergy() const;  ///< J, gravitational, zero at the origin
+    double potentialEnergy() const;  ///< J, gravitational (zero at the origin) plus the springs'
     double totalEnergy() const;      ///< J
     Vec3 linearMomentum() const;     ///< kg m/s
     /// True when every body's position and velocity are finite.
@@ -107,6 +154,14 @@ private:
     double time_ = 0.0;
     std::size_t steps_ = 0;
     std::set<std::string> missing_;
+    std::vector<Spring> springs_;
+    std::vector<DistanceConstraint> distances_;
+    std::optional<Container> container_;
+    Integrator integratorKind_ = Integrator::SemiImplicitEuler;
+    int constraintIterations_ = 4;
+    std::vector<Vec3> previousPositions_;  ///< position Verlet's x_{n-1} per body (m); empty: not started
+
+    std::size_t bodyIndex(const std::string& name) const;
 };
 
 }  // namespace gpl

@@ -18,7 +18,8 @@ struct Scene {
     int worksheet = 0;                          ///< the worksheet the scene belongs to (0: the student's own)
     StageSet stages;                            ///< the stages the scene requires
     double timeStep = kDefaultTimeStep;         ///< s
-    std::function<void(PhysicsEngine&)> build;  ///< adds the bodies
+    std::function<void(PhysicsEngine&)> build;  ///< adds the bodies (and springs, constraints, container)
+    Integrator integrator = Integrator::SemiImplicitEuler;  ///< the scene's integrator; changeable at run time
     // Where the viewer looks first; a distance of 0 frames the bodies as they start.
     Vec3 viewTarget = Vec3::Zero();  ///< m
     double viewDistance = 0.0;       ///< m
@@ -40,12 +41,13 @@ private:
 /// Every scene: the course's and the student's (F11/F12).
 const SceneRegistry& scenes();
 
-/// Empties the engine and loads the scene: settings to defaults, the scene's stages and time
-/// step, then its bodies.
+/// Empties the engine and loads the scene: settings to defaults, the scene's stages, time step
+/// and integrator, then its bodies.
 void load(PhysicsEngine& engine, const Scene& scene);
 
 // Registration functions, one per group of scenes (called by scenes()).
 void addWorksheet1Scenes(SceneRegistry& registry);
+void addWorksheet2Scenes(SceneRegistry& registry);
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl

@@ -11,7 +11,10 @@ namespace gpl {
 
 enum class Stage {
     ConstantAcceleration,  ///< forces: gravity into every movable body's accumulator (worksheet 1)
-    Integration,           ///< advance velocities and positions by one time step (worksheet 1)
+    Springs,               ///< forces: Hooke springs (optionally damped) add theirs (worksheet 2)
+    Integration,           ///< advance velocities and positions by one time step (worksheets 1, 2)
+    Constraints,           ///< move positions to satisfy rods, chains and the container (worksheet 2)
+    ParticleCollisions,    ///< push overlapping spheres apart by moving positions (worksheet 2)
     Count
 };
 

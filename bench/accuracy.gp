@@ -1,0 +1,53 @@
+# Plots of the accuracy study. Run by ./lab bench accuracy as
+#   gnuplot -e "dir='build/accuracy'; ext='png'" bench/accuracy.gp   (and ext='svg')
+# It reads the data files the study wrote to dir and writes error-*.EXT, work-precision-*.EXT
+# and energy-*.EXT beside them.
+if (!exists("dir")) dir = 'build/accuracy'
+if (!exists("ext")) ext = 'png'
+if (ext eq 'svg') { set terminal svg size 800,560 dynamic font 'sans,12' } else { set terminal png size 800,560 }
+load dir.'/anchors.gp'
+
+names = "explicit-Euler semi-implicit-Euler position-Verlet velocity-Verlet RK4"
+set key left top
+set logscale xy
+set format x '10^{%L}'
+set format y '10^{%L}'
+set grid
+
+do for [problem in "oscillator kepler pendulum-large"] {
+    id = problem eq 'pendulum-large' ? 'pendulum_large' : problem
+    c1 = value('c1_'.id); c2 = value('c2_'.id); c4 = value('c4_'.id)
+    data = dir.'/sweep-'.problem.'.dat'
+
+    set output dir.'/error-'.problem.'.'.ext
+    set title 'Global error at the end time vs time step: '.problem
+    set xlabel 'time step h (s)'
+    set ylabel 'state error'
+    plot for [i=0:4] data index i using 1:2 with linespoints title word(names, i+1), \
+         c1*x dashtype 2 lc rgb 'gray40' title 'slope 1', \
+         c2*x**2 dashtype 3 lc rgb 'gray40' title 'slope 2', \
+         c4*x**4 dashtype 4 lc rgb 'gray40' title 'slope 4'
+
+    set output dir.'/work-precision-'.problem.'.'.ext
+    set title 'Work vs precision: '.problem
+    set key right top
+    set xlabel 'force evaluations for the whole run'
+    plot for [i=0:4] data index i using 3:2 with linespoints title word(names, i+1)
+    set key left top
+}
+
+do for [problem in "oscillator kepler"] {
+    set output dir.'/energy-'.problem.'.'.ext
+    set title 'Relative energy error over time: '.problem
+    set logscale y
+    unset logscale x
+    set format x '%g'
+    set xlabel 'time (s)'
+    set ylabel '|E - E_0| / |E_0|'
+    set key right bottom
+    plot for [i=0:4] dir.'/energy-'.problem.'.dat' index i using 1:2 with lines title word(names, i+1)
+    set logscale x
+    set format x '10^{%L}'
+    set key left top
+}
+unset output
