@@ -46,7 +46,7 @@ import hooks  # noqa: E402
 DEFAULT_TIMEOUT = 5.0         # s per test; the reference solution needs a few hundredths
 OUTPUT_CAP = 1 << 20          # bytes of output a test may print before it is stopped
 TRACE_GRACE = 2.0             # s a stopped test gets to write its call stack before it is killed
-VISIBILITIES = ("hidden", "after_published", "after_due_date", "visible")
+GTEST_LINE = re.compile(r"^(Note: Google Test filter|\[[ =A-Z-]{10}\])")  # GoogleTest's own lines
 
 
 class GradeError(Exception):
@@ -211,8 +211,25 @@ def _signal_name(number):
         return f"signal {number}"
 
 
-def run_one(binary, test, timeout, guard=None):
-    """Runs one graded test in its own process. Returns (passed, output, seconds)."""
+def run_one(binary, test, timeout, guard=None, alone=False):
+    """Runs one graded test in its own process. Returns (passed, output, seconds). With a guard, a
+    test that writes into the lab's files fails; when other tests ran at the same time, the ones
+    that may have written run again, one at a time, so that only the writer is blamed."""
+    token = guard.start(alone) if guard else None
+    try:
+        passed, output, seconds = _run_one(binary, test, timeout)
+    finally:
+        tampered, suspect = guard.finish(token) if guard else ([], False)
+    if suspect and not alone:
+        return run_one(binary, test, timeout, guard, alone=True)
+    if tampered:
+        passed = False
+        output = (f"wrote into the lab's own files, which is not allowed (undone): {', '.join(tampered)}\n"
+                  + output).strip()
+    return passed, output, seconds
+
+
+def _run_one(binary, test, timeout):
     with tempfile.TemporaryDirectory(prefix="gpl-grade-") as tmp:
         report_path = pathlib.Path(tmp) / "report.json"
         trace_path = pathlib.Path(tmp) / "trace.txt"
@@ -221,12 +238,7 @@ def run_one(binary, test, timeout, guard=None):
         start = time.monotonic()
         rc, out, why = run_limited(cmd, timeout, cwd=tmp, env=env, warn_signal=signal.SIGUSR1)
         seconds = time.monotonic() - start
-        tampered = guard.check() if guard else []
         passed, output = _verdict(test, rc, out, why, timeout, report_path, trace_path, binary)
-        if tampered:
-            passed = False
-            output = (f"wrote into the lab's own files, which is not allowed (undone): {', '.join(tampered)}\n"
-                      + output).strip()
         return passed, output, seconds
 
 
@@ -238,7 +250,8 @@ def _verdict(test, rc, out, why, timeout, report_path, trace_path, binary):
     if why == "timeout":
         return False, f"timed out after {timeout:g} s{where} (an endless loop?)"
     if why == "output":
-        head = "\n".join(out.strip().splitlines()[:6])
+        own = [l for l in out.strip().splitlines() if not GTEST_LINE.match(l)]
+        head = "\n".join(own[:6])
         return False, f"printed more than {OUTPUT_CAP // 1024} KiB of output{where} and was stopped; it began:\n{head}"
     if rc < 0:
         name = _signal_name(-rc)
@@ -304,6 +317,36 @@ class Guard:
         self.lock = threading.Lock()
         self.files = self._scan()
         self.contents = {p: p.read_bytes() for p in self.files}
+        # Tests running now; those that were running when a change was found are suspects and run
+        # again alone (no other test at the same time) to find out which one wrote.
+        self.cond = threading.Condition()
+        self.running, self.suspects, self.alone = set(), set(), None
+
+    def start(self, alone=False):
+        token = object()
+        with self.cond:
+            self.cond.wait_for(lambda: self.alone is None)
+            if alone:
+                self.alone = token
+                self.cond.wait_for(lambda: not self.running)
+            self.running.add(token)
+        return token
+
+    def finish(self, token):
+        """Checks the files after a test. Returns (changed paths, suspect): suspect when the change
+        may have come from another test that ran at the same time, so the test must run again alone."""
+        with self.cond:
+            changed = self.check()
+            others = self.running - {token}
+            if changed and others:
+                self.suspects |= self.running
+            suspect = token in self.suspects
+            self.suspects.discard(token)
+            self.running.discard(token)
+            if self.alone is token:
+                self.alone = None
+            self.cond.notify_all()
+        return changed, suspect
 
     def _skipped(self, path):
         if path.name in self.SKIP or path.name.startswith("build") or path.name.startswith("assignments.backup"):
@@ -380,7 +423,7 @@ def table(results, title):
     return "\n".join(lines)
 
 
-def gradescope(results, seconds, hidden_visibility="after_published"):
+def gradescope(results, seconds, hidden_visibility="after_published", notes=""):
     tests = []
     for r in results:
         if r["passed"]:
@@ -394,9 +437,12 @@ def gradescope(results, seconds, hidden_visibility="after_published"):
                       "visibility": hidden_visibility if r.get("hidden") else "visible"})
     # The grader's own printout repeats hidden tests' names and messages: students never see it.
     stdout = "hidden" if any(r.get("hidden") for r in results) else "visible"
-    return {"score": sum(r["score"] for r in results), "max_score": sum(r["points"] for r in results),
+    data = {"score": sum(r["score"] for r in results), "max_score": sum(r["points"] for r in results),
             "execution_time": round(seconds, 3), "visibility": "visible", "stdout_visibility": stdout,
             "tests": tests}
+    if notes:
+        data["output"] = notes
+    return data
 
 
 def junit(results, label):
@@ -450,11 +496,11 @@ def check_writable(path):
         raise GradeError(f"cannot write {path}: the folder {parent} does not exist or is not writable")
 
 
-def report(results, label, args, seconds):
+def report(results, label, args, seconds, notes=""):
     print(table(results, f"Game Physics Lab autograder: {label}"
                 + (f", worksheet {args.worksheet}" if args.worksheet else "")))
     if args.json:
-        write_atomically(args.json, json.dumps(gradescope(results, seconds, args.hidden_visibility), indent=2) + "\n")
+        write_atomically(args.json, json.dumps(gradescope(results, seconds, args.hidden_visibility, notes), indent=2) + "\n")
         print(f"wrote {args.json}")
     if args.junit:
         write_atomically(args.junit, junit(results, label))
@@ -519,6 +565,16 @@ class Submission:
         self.variant = None
         self.results = None
         self.seconds = 0.0
+
+    def notes(self):
+        """What the student should know besides the tests: files not graded."""
+        lines = []
+        if self.missing:
+            lines.append(f"not in the submission, graded as the untouched stub: {', '.join(self.missing)}")
+        if self.ignored:
+            lines.append(f"ignored (only hook files are graded): {', '.join(self.ignored[:20])}"
+                         + (f" and {len(self.ignored) - 20} more" if len(self.ignored) > 20 else ""))
+        return "\n".join(lines)
 
 
 def stage_submissions(subs, sub_build):
@@ -627,16 +683,13 @@ def cmd_grade(args):
         stage_submissions([sub], sub_build)
         if sub.error:
             raise GradeError(sub.error)
-        if sub.missing:
-            print(f"not in the submission, graded as the untouched stub: {', '.join(sub.missing)}")
-        if sub.ignored:
-            print(f"ignored (only hook files are graded): {', '.join(sub.ignored[:20])}"
-                  + (f" and {len(sub.ignored) - 20} more" if len(sub.ignored) > 20 else ""))
+        if sub.notes():
+            print(sub.notes())
         build_submissions([sub], sub_build, None)
         if sub.build_errors is not None:
             print("the code does not compile; every test scores zero. First errors:\n" + sub.build_errors)
         grade_submission(sub, args, sub_build, guard, lambda: reference_tests(build_dir, args.worksheet, None))
-        return report(sub.results, label, args, time.monotonic() - start)
+        return report(sub.results, label, args, time.monotonic() - start, sub.notes())
     if args.solutions and not (ROOT / "solutions").is_dir():
         raise GradeError("this is a student release: it has no solutions to grade")
     variant = "solutions" if args.solutions else "assignments"
@@ -695,9 +748,12 @@ def gradebook(subs):
     w.writerow(["submission", *names, "total", "max_score", "note"])
     for s in subs:
         scores = {r["name"]: r["score"] for r in s.results}
-        note = s.error or ("does not compile" if s.build_errors is not None else "")
-        if not note and s.missing:
-            note = "graded as the untouched stub: " + " ".join(s.missing)
+        notes = [s.error or ("does not compile" if s.build_errors is not None else "")]
+        if s.missing:
+            notes.append("graded as the untouched stub: " + " ".join(s.missing))
+        if s.ignored:
+            notes.append("ignored: " + " ".join(s.ignored[:5]) + (" ..." if len(s.ignored) > 5 else ""))
+        note = "; ".join(n for n in notes if n)
         w.writerow([s.name, *(f"{scores[n]:g}" for n in names), f"{sum(scores.values()):g}",
                     f"{sum(r['points'] for r in s.results):g}", note])
     return out.getvalue()
@@ -732,7 +788,7 @@ def cmd_batch(args):
     stage_submissions(subs, sub_build)
     distinct = len({s.variant for s in subs if s.variant})
     print(f"grading {len(subs)} submissions ({distinct} distinct) with {jobs} jobs", file=sys.stderr)
-    build_submissions(subs, sub_build, jobs)
+    build_submissions(subs, sub_build, os.cpu_count())  # compiling uses every core whatever --jobs says
     reference_cache, reference_lock = [], threading.Lock()
 
     def reference():
@@ -752,7 +808,8 @@ def cmd_batch(args):
         grade_submission(sub, args, sub_build, guard, reference)
         (results_dir / sub.name).mkdir(exist_ok=True)
         write_atomically(results_dir / sub.name / "results.json",
-                         json.dumps(gradescope(sub.results, sub.seconds, args.hidden_visibility), indent=2) + "\n")
+                         json.dumps(gradescope(sub.results, sub.seconds, args.hidden_visibility, sub.notes()),
+                                    indent=2) + "\n")
         progress.finished(sub)
         return sub
 
