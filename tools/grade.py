@@ -10,6 +10,10 @@ reports points, hints, Gradescope results.json and JUnit XML.
       submission, one column per test, the total) and FILE-results/NAME/results.json for each.
   grade.py report --binary AUTOGRADER [--worksheet N] [--json FILE] [--junit FILE]
       grades an autograder binary that is already built.
+  grade.py prebuild --build-dir DIR
+      builds the engine and the tests for grading submissions (Gradescope's setup.sh runs it).
+  grade.py failure --json FILE --message TEXT
+      writes a results.json with zero points that says why the grading could not run.
   grade.py selfcheck --binary AUTOGRADER (--expect full | --expect zero | --mutant NAME) [--worksheet N]
       the grader's own checks: the solutions score full marks, the stubs zero, and each seeded
       mistake (tests/mutants/*.json) loses points in the test named for it, which fails on its own.
@@ -537,6 +541,9 @@ def prepare_submission(source, hooks_dir):
         raise GradeError(f"submission folder not found: {source}")
     names = hooks.hook_files()
     present = [n for n in names if (source / n).is_file()]
+    if not present and any((source / "assignments" / n).is_file() for n in names):
+        source = source / "assignments"  # a whole copy of the lab: its assignments/ is the submission
+        present = [n for n in names if (source / n).is_file()]
     if not present:
         raise GradeError(f"submission folder {source} holds none of the hook files ({', '.join(names)})")
     hooks_dir.mkdir(parents=True, exist_ok=True)
@@ -638,7 +645,7 @@ def reference_tests(build_dir, worksheet, avoid):
     """The graded tests as a variant that builds lists them (the list is the same in every variant):
     used when the code being graded does not compile."""
     candidates = [v for v in ("solutions", "assignments") if v != avoid]
-    if not (ROOT / "solutions").is_dir():
+    if not (ROOT / "solutions").is_dir() and "solutions" in candidates:
         candidates.remove("solutions")
     for v in candidates:
         ok, _ = cmake_build(build_dir, [f"autograder_{v}"])
@@ -688,7 +695,7 @@ def cmd_grade(args):
         build_submissions([sub], sub_build, None)
         if sub.build_errors is not None:
             print("the code does not compile; every test scores zero. First errors:\n" + sub.build_errors)
-        grade_submission(sub, args, sub_build, guard, lambda: reference_tests(build_dir, args.worksheet, None))
+        grade_submission(sub, args, sub_build, guard, lambda: reference_tests(sub_build, args.worksheet, None))
         return report(sub.results, label, args, time.monotonic() - start, sub.notes())
     if args.solutions and not (ROOT / "solutions").is_dir():
         raise GradeError("this is a student release: it has no solutions to grade")
@@ -794,7 +801,7 @@ def cmd_batch(args):
     def reference():
         with reference_lock:
             if not reference_cache:
-                reference_cache.append(reference_tests(build_dir, args.worksheet, None))
+                reference_cache.append(reference_tests(sub_build, args.worksheet, None))
         return reference_cache[0]
 
     if any(s.error or s.build_errors is not None for s in subs):
@@ -821,6 +828,27 @@ def cmd_batch(args):
     print(f"graded {len(subs)} submissions in {time.monotonic() - start:.1f} s: {full} with full marks; "
           f"wrote {out} and {results_dir}/NAME/results.json")
     return 0 if full == len(subs) else 1
+
+
+def cmd_prebuild(args):
+    """Builds what grading a submission needs besides the submission: the engine, the tests and the
+    untouched stubs' autograder (it lists the tests when a submission does not compile)."""
+    sub_build = submission_build_dir(pathlib.Path(args.build_dir).resolve())
+    (sub_build / "submissions").mkdir(parents=True, exist_ok=True)
+    configure_submission_build(sub_build)
+    ok, log = cmake_build(sub_build, ["autograder_assignments"])
+    if not ok:
+        raise GradeError("the lab does not build: " + first_errors(log, 3))
+    print(f"built the engine and the tests in {sub_build}")
+    return 0
+
+
+def cmd_failure(args):
+    """A results.json that says why the grading could not run (Gradescope shows it to the student)."""
+    data = {"score": 0, "output": "The submission could not be graded: " + args.message.strip(),
+            "visibility": "visible", "stdout_visibility": "visible", "tests": []}
+    write_atomically(args.json, json.dumps(data, indent=2) + "\n")
+    return 0
 
 
 def cmd_report(args):
@@ -913,13 +941,21 @@ def main(argv):
     exp.add_argument("--expect", choices=["full", "zero"])
     exp.add_argument("--mutant", metavar="NAME")
 
+    b = sub.add_parser("prebuild")
+    b.add_argument("--build-dir", required=True)
+
+    f = sub.add_parser("failure")
+    f.add_argument("--json", metavar="FILE", required=True)
+    f.add_argument("--message", required=True)
+
     args = parser.parse_args(argv)
     if getattr(args, "timeout", 1) <= 0:
         parser.error("--timeout must be a positive number of seconds")
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
         parser.error("--jobs must be at least 1")
     try:
-        return {"grade": cmd_grade, "report": cmd_report, "selfcheck": cmd_selfcheck}[args.command](args)
+        return {"grade": cmd_grade, "report": cmd_report, "selfcheck": cmd_selfcheck, "prebuild": cmd_prebuild,
+                "failure": cmd_failure}[args.command](args)
     except (GradeError, hooks.HookError) as e:
         print("error: " + "; ".join(line.strip() for line in str(e).splitlines() if line.strip()), file=sys.stderr)
         return 2
