@@ -536,7 +536,7 @@ def first_errors(log, limit=20):
 def prepare_submission(source, hooks_dir):
     """Copies the hook files of a submission into hooks_dir. Files the submission lacks are taken
     from the untouched stubs; everything else in it is ignored. Returns (missing, ignored)."""
-    source = pathlib.Path(source)
+    folder = source = pathlib.Path(source)
     if not source.is_dir():
         raise GradeError(f"submission folder not found: {source}")
     names = hooks.hook_files()
@@ -556,8 +556,8 @@ def prepare_submission(source, hooks_dir):
         dst = hooks_dir / n
         if not dst.exists() or dst.read_bytes() != text:
             dst.write_bytes(text)  # a fresh modification time, so the build sees the change
-    ignored = sorted(str(p.relative_to(source)) for p in source.rglob("*")
-                     if p.is_file() and str(p.relative_to(source)) not in names)
+    taken = {source / n for n in names}
+    ignored = sorted(str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file() and p not in taken)
     return missing, ignored
 
 
