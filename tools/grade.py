@@ -308,11 +308,12 @@ def failed_results(tests, message):
 # ---- The lab's own files stay as they are ---------------------------------------------------------
 
 class Guard:
-    """Notices when a test writes into the lab's files (the folders below and the files at the top),
-    puts them back and keeps what was written in quarantine/ of the build folder. Build folders,
-    worksheets and results are not guarded. Thread-safe: parallel graders share one guard."""
+    """Notices when a test writes into the lab's files (what builds and grades: the folders and files
+    below), puts them back and keeps what was written in quarantine/ of the build folder. Build
+    folders, worksheets and results are not guarded. Thread-safe: parallel graders share one guard."""
 
     FOLDERS = {"tests", "tools", "framework", "cmake", "assignments", "solutions"}
+    FILES = {"CMakeLists.txt", "CMakePresets.json", "lab"}
     SKIP = {".git", "__pycache__"}
 
     def __init__(self, root, quarantine, skip=()):
@@ -373,7 +374,7 @@ class Guard:
                 if e.is_dir(follow_symlinks=False):
                     if folder != self.root or e.name in self.FOLDERS:
                         stack.append(p)
-                elif e.is_file(follow_symlinks=False):
+                elif e.is_file(follow_symlinks=False) and (folder != self.root or e.name in self.FILES):
                     st = e.stat(follow_symlinks=False)
                     found[p] = (st.st_mtime_ns, st.st_size)
         return found
