@@ -55,7 +55,7 @@ bool registerGraded(const char* suite, const char* name, double points, const ch
 }  // namespace gpl::grading
 
 /// GRADED_TEST(Worksheet1, Name, points, "hint", options...) { ... } is a TEST_F of the fixture Worksheet1.
-#define GRADED_TEST(Fixture, Name, Points, ...)                                         \
-    [[maybe_unused]] static const bool gpl_graded_##Fixture##_##Name =                  \
-        ::gpl::grading::registerGraded(#Fixture, #Name, Points, __VA_ARGS__);           \
+#define GRADED_TEST(Fixture, Name, Points, ...)                               \
+    [[maybe_unused]] static const bool gpl_graded_##Fixture##_##Name =        \
+        ::gpl::grading::registerGraded(#Fixture, #Name, Points, __VA_ARGS__); \
     TEST_F(Fixture, Name)
