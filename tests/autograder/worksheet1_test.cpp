@@ -154,7 +154,8 @@ GRADED_TEST(Worksheet1, GravityAppliedBeforeIntegrating, 2,
 
 GRADED_TEST(Worksheet1, AccelerationResetEachStep, 2,
             "The acceleration accumulator holds gravity once, anew each step: use "
-            "updateConstantAcceleration(), which sets it, rather than adding gravity to it yourself.") {
+            "updateConstantAcceleration(), which sets it, rather than adding gravity to it yourself.",
+            grading::dependsOn("SimulationTimestepAppliesGravity")) {
     engine.add(box("crate", {0.5, 0.5, 0.5}, 3.0).at({0.0, 50.0, 0.0}));
     const double h = engine.timeStep();
     const int n = 50;
@@ -221,7 +222,8 @@ GRADED_TEST(Worksheet1, UsesEngineTimeStep, 2,
 
 GRADED_TEST(Worksheet1, MatchesDiscreteFreeFall, 3,
             "After n steps semi-implicit Euler gives v_n = v0 + n h g and x_n = x0 + n h v0 + n(n+1)/2 h^2 g; "
-            "check that every step uses the same h and the new velocity.") {
+            "check that every step uses the same h and the new velocity.",
+            grading::dependsOn("OneStepIsSemiImplicitEuler"), grading::dependsOn("UsesEngineTimeStep")) {
     const Vec3 x0(-10.0, 1.0, 0.0), v0(10.6, 10.6, 0.0);
     const double h = 0.004;
     const int n = 1000;
@@ -239,7 +241,8 @@ GRADED_TEST(Worksheet1, MatchesDiscreteFreeFall, 3,
 
 GRADED_TEST(Worksheet1, EnergyNeverIncreases, 3,
             "Total energy must not grow: explicit Euler adds m g^2 h^2 / 2 per step; semi-implicit Euler "
-            "(velocity first, then position with the new velocity) never adds any.") {
+            "(velocity first, then position with the new velocity) never adds any.",
+            grading::dependsOn("GravityPointsDown")) {
     for (const Scene* scene : worksheetScenes()) {
         load(engine, *scene);
         const std::vector<Body> start = engine.bodies();

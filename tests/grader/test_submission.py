@@ -79,6 +79,22 @@ class Submission(unittest.TestCase):
         self.assertIn("submission folder not found", proc.stderr)
         self.assertFalse(results.exists())
 
+    def test_bad_input_is_a_one_line_error_and_writes_nothing(self):
+        sub = self.submission("", None)
+        (self.tmp / "empty").mkdir()
+        results = self.tmp / "results.json"
+        for args, message in [(("--submission", self.tmp / "empty"), "holds none of the hook files"),
+                              (("--submission", sub, "--worksheet", "9"), "no graded tests for worksheet 9"),
+                              (("--submission", sub, "--colour"), "unrecognized arguments: --colour"),
+                              (("--submission", sub, "--solutions"), "not allowed with argument"),
+                              (("--submission", sub, "--json", self.tmp), "it is a folder")]:
+            with self.subTest(args=args):
+                proc = lab_grade(*args, *(("--json", results) if "--json" not in args else ()))
+                self.assertEqual(proc.returncode, 2, proc.stdout + proc.stderr)
+                self.assertEqual(proc.stderr.strip().count("\n"), 0, proc.stderr)
+                self.assertIn(message, proc.stderr)
+                self.assertFalse(results.exists())
+
     def test_an_unwritable_results_path_is_refused_before_grading(self):
         sub = self.submission("", None)
         proc = lab_grade("--submission", sub, "--json", self.tmp / "no" / "such" / "results.json")

@@ -1,5 +1,7 @@
 """Tests of the grader's tools (tools/grade.py, tools/hooks.py) on their own and on the real
 autograder binaries, whose paths CTest passes in GPL_AUTOGRADER_SOLUTIONS / _ASSIGNMENTS."""
+import contextlib
+import io
 import json
 import os
 import pathlib
@@ -64,7 +66,9 @@ class Reports(unittest.TestCase):
                 self.assertEqual(data["max_score"], sum(r["points"] for r in results))
                 if expected_score is not None:
                     self.assertEqual(data["score"], expected_score)
-                    self.assertTrue(all(t["status"] == "failed" and "hint:" in t["output"] for t in data["tests"]))
+                    self.assertTrue(all(t["status"] == "failed" for t in data["tests"]))
+                    self.assertTrue(all("hint:" in t["output"] or t["output"].startswith("not run: depends on")
+                                        for t in data["tests"]))
                 else:
                     self.assertEqual(data["score"], data["max_score"])
 
@@ -72,8 +76,12 @@ class Reports(unittest.TestCase):
         tree = ET.fromstring(grade.junit(self.stubs, "stubs"))
         suite = tree.find("testsuite")
         self.assertEqual(suite.get("name"), "worksheet1")
-        self.assertEqual(int(suite.get("failures")), len(self.stubs))
-        self.assertEqual(len(suite.findall("testcase/failure")), len(self.stubs))
+        not_run = sum(r["not_run"] for r in self.stubs)
+        self.assertGreater(not_run, 0)
+        self.assertEqual(int(suite.get("failures")), len(self.stubs) - not_run)
+        self.assertEqual(int(suite.get("skipped")), not_run)
+        self.assertEqual(len(suite.findall("testcase/failure")), len(self.stubs) - not_run)
+        self.assertEqual(len(suite.findall("testcase/skipped")), not_run)
         tree = ET.fromstring(grade.junit(self.solutions, "solutions"))
         self.assertEqual(tree.find("testsuite").get("failures"), "0")
 
@@ -91,6 +99,107 @@ class Reports(unittest.TestCase):
         passed, output, _ = grade.run_one(pathlib.Path(binary("solutions")).resolve(), "Worksheet1.NoSuchTest", 10)
         self.assertFalse(passed)
         self.assertIn("not found", output)
+
+
+class Declarations(unittest.TestCase):
+    def test_prerequisites_come_first_and_circles_are_refused(self):
+        tests = [{"name": "S.C", "depends_on": ["S.B"]}, {"name": "S.A", "depends_on": []},
+                 {"name": "S.B", "depends_on": ["S.A"]}]
+        self.assertEqual([t["name"] for t in grade.in_dependency_order(tests)], ["S.A", "S.B", "S.C"])
+        tests[1]["depends_on"] = ["S.C"]
+        with self.assertRaisesRegex(grade.GradeError, "circle: S.C -> S.B -> S.A -> S.C"):
+            grade.in_dependency_order(tests)
+        with self.assertRaisesRegex(grade.GradeError, "S.A depends on S.X, which is not a graded test"):
+            grade.in_dependency_order([{"name": "S.A", "depends_on": ["S.X"]}])
+
+    def test_manifest_declares_limits_prerequisites_and_hidden_tests(self):
+        tests = {t["name"]: t for t in grade.manifest(binary("solutions"))}
+        self.assertIn("Worksheet1.GravityPointsDown", tests["Worksheet1.EnergyNeverIncreases"]["depends_on"])
+        self.assertTrue(any(t["hidden"] for t in tests.values()))
+        self.assertTrue(all(t["time_limit"] >= 0 for t in tests.values()))
+
+    def test_stubs_report_not_run_with_the_prerequisite(self):
+        stubs = {r["name"]: r for r in grade.grade_binary(binary("assignments"), worksheet=1)}
+        energy = stubs["Worksheet1.EnergyNeverIncreases"]
+        self.assertTrue(energy["not_run"])
+        self.assertEqual(energy["score"], 0)
+        self.assertTrue(energy["output"].startswith("not run: depends on Worksheet1.GravityPointsDown"))
+
+    def test_hidden_tests_visibility_is_configurable(self):
+        results = grade.grade_binary(binary("solutions"))
+        for visibility in ("hidden", "after_published"):
+            data = grade.gradescope(results, 1.0, visibility)
+            hidden = [t for t, r in zip(data["tests"], results) if r["hidden"]]
+            self.assertTrue(hidden)
+            self.assertTrue(all(t["visibility"] == visibility for t in hidden))
+            self.assertEqual(data["stdout_visibility"], "hidden")
+
+    def test_a_seeded_mistake_must_be_caught_by_its_own_test(self):
+        # The reference passes the named test: the self-check must say WRONG, not OK.
+        with contextlib.redirect_stdout(io.StringIO()) as out:
+            status = grade.main(["selfcheck", "--binary", binary("solutions"), "--mutant", "explicit_euler"])
+        self.assertEqual(status, 1)
+        self.assertIn("WRONG: 'position updated with the old velocity (explicit Euler)' is not caught", out.getvalue())
+
+
+class HooksInTraces(unittest.TestCase):
+    def test_the_innermost_hook_of_a_call_stack(self):
+        trace = ("./autograder(+0x1234)[0x55]\n"
+                 "/lib/x86_64-linux-gnu/libc.so.6(+0x3c050)[0x7f]\n"
+                 "./autograder(_ZN3gpl13PhysicsEngine10integratorEv+0x2a)[0x56]\n"
+                 "./autograder(_ZN3gpl13PhysicsEngine18simulationTimestepEv+0x10)[0x57]\n"
+                 "./autograder(_ZN3gpl13PhysicsEngine4stepEv+0x10)[0x58]\n")
+        self.assertEqual(grade.hook_in_trace(trace), "integrator()")
+        self.assertIsNone(grade.hook_in_trace("./autograder(_ZN3gpl13PhysicsEngine4stepEv+0x10)[0x58]\n"))
+
+    def test_a_failed_assert_names_its_function(self):
+        output = ("autograder: /x/integrator.cpp:25: void gpl::PhysicsEngine::integrator(): "
+                  "Assertion `isFinite(b.position)' failed.")
+        self.assertEqual(grade.hook_in_trace("", output), "integrator()")
+
+
+class GuardTest(unittest.TestCase):
+    def test_changes_are_undone_and_kept_aside(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            root = pathlib.Path(tmp) / "lab"
+            (root / "tests").mkdir(parents=True)
+            (root / "worksheets").mkdir()
+            (root / "tests" / "a_test.cpp").write_text("original")
+            guard = grade.Guard(root, pathlib.Path(tmp) / "quarantine")
+            self.assertEqual(guard.check(), [])
+            (root / "tests" / "a_test.cpp").write_text("weakened")
+            (root / "tests" / "new.cpp").write_text("injected")
+            (root / "worksheets" / "notes.md").write_text("not guarded")
+            (root / "README.md").write_text("not guarded either")
+            (root / "lab").write_text("guarded")
+            self.assertEqual(guard.check(), ["lab", "tests/a_test.cpp", "tests/new.cpp"])
+            self.assertFalse((root / "lab").exists())
+            self.assertEqual((root / "tests" / "a_test.cpp").read_text(), "original")
+            self.assertFalse((root / "tests" / "new.cpp").exists())
+            kept = sorted(p.name for p in (pathlib.Path(tmp) / "quarantine").rglob("*") if p.is_file())
+            self.assertEqual(kept, ["a_test.cpp", "lab", "new.cpp"])
+            (root / "tests" / "a_test.cpp").unlink()
+            self.assertEqual(guard.check(), ["tests/a_test.cpp"])
+            self.assertEqual((root / "tests" / "a_test.cpp").read_text(), "original")
+
+
+class CommandLine(unittest.TestCase):
+    def grade_py(self, *args):
+        return subprocess.run([sys.executable, str(ROOT / "tools" / "grade.py"), *map(str, args)],
+                              capture_output=True, text=True)
+
+    def test_bad_options_are_one_line_errors(self):
+        for args, message in [(["grade", "--build-dir", "b", "--bogus"], "unrecognized arguments: --bogus"),
+                              (["grade"], "required: --build-dir"),
+                              (["grade", "--build-dir", "b", "--timeout", "0"], "--timeout must be a positive"),
+                              (["report", "--binary", binary("solutions"), "--worksheet", "9"],
+                               "no graded tests for worksheet 9"),
+                              (["nonsense"], "invalid choice")]:
+            with self.subTest(args=args):
+                proc = self.grade_py(*args)
+                self.assertEqual(proc.returncode, 2)
+                self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+                self.assertIn(message, proc.stderr)
 
 
 class Files(unittest.TestCase):

@@ -1,0 +1,225 @@
+"""The student release and the Gradescope autograder, built from scratch in temporary folders:
+the release builds and passes its own tests, its stubs score zero, and neither solution code nor
+hidden tests leaked into it; the autograder's setup.sh and run_autograder grade submissions in a
+fake /autograder tree (GPL_AUTOGRADER_ROOT) into results.json files that Gradescope accepts."""
+import json
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+import grade  # noqa: E402
+import hooks  # noqa: E402
+
+CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
+
+
+def run(cmd, cwd, env=None, timeout=400):
+    return subprocess.run([str(c) for c in cmd], cwd=cwd, capture_output=True, text=True, timeout=timeout,
+                          env={**os.environ, **(env or {})})
+
+
+def solution_code():
+    """Each line of reference code between BEGIN SOLUTION and ELSE STUB (braces and comments aside),
+    unless the public engine holds the same line."""
+    public = {l.strip() for p in (ROOT / "framework").rglob("*") if p.is_file() for l in p.read_text().splitlines()}
+    lines = set()
+    for name in hooks.hook_files():
+        inside = False
+        for line in (ROOT / "solutions" / name).read_text().splitlines():
+            if line.strip() == hooks.BEGIN:
+                inside = True
+            elif line.strip() in (hooks.ELSE, hooks.END):
+                inside = False
+            elif inside and len(line.strip()) > 3 and not line.strip().startswith("//") and line.strip() not in public:
+                lines.add(line.strip())
+    assert len(lines) >= 5, lines
+    return lines
+
+
+def hidden_tests():
+    binary = pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions"
+    hidden = [t for t in grade.manifest(binary) if t["hidden"]]
+    assert hidden, "there is at least one hidden test"
+    return hidden
+
+
+def all_text(folder):
+    return {p: p.read_text(errors="replace") for p in folder.rglob("*")
+            if p.is_file() and "build" not in p.relative_to(folder).parts}
+
+
+class StudentRelease(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-release-"))
+        cls.release = cls.tmp / "lab-release"
+        cls.made = run([ROOT / "lab", "release", cls.release], ROOT)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    def test_written(self):
+        self.assertEqual(self.made.returncode, 0, self.made.stdout + self.made.stderr)
+        for path in ("lab", "README.md", "framework/src/engine.cpp", "tests/autograder/worksheet1_test.cpp",
+                     "worksheets/01-time-stepping.md", "tools/grade.py", "cmake/hook_files.txt"):
+            self.assertTrue((self.release / path).is_file(), path)
+        self.assertEqual([p.name for p in self.tmp.iterdir() if p.name.startswith(".")], [], "no leftovers beside it")
+
+    def test_nothing_for_instructors_only(self):
+        for path in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor", "tools/release.py", ".ci"):
+            self.assertFalse((self.release / path).exists(), path)
+        self.assertEqual(list((self.release / "tests" / "autograder").glob("*hidden*")), [])
+
+    def test_assignments_are_the_stubs(self):
+        for name, text in hooks.expected_assignments().items():
+            self.assertEqual((self.release / "assignments" / name).read_text(), text)
+
+    def test_no_solution_code_leaked(self):
+        for path, text in all_text(self.release).items():
+            for line in solution_code():
+                self.assertNotIn(line, text, f"{path.relative_to(self.release)} holds solution code")
+
+    def test_no_hidden_test_leaked(self):
+        texts = all_text(self.release)
+        for t in hidden_tests():
+            suite, name = t["name"].split(".")
+            for path, text in texts.items():
+                self.assertNotIn(name, text, path)
+                self.assertNotIn(t["hint"][:40], text, path)
+
+    def test_the_leak_check_finds_a_leak(self):
+        leaky = self.tmp / "leaky"
+        shutil.copytree(self.release, leaky)
+        (leaky / "assignments" / "integrator.cpp").write_text((ROOT / "solutions" / "integrator.cpp").read_text())
+        proc = run([sys.executable, ROOT / "tools" / "release.py", "leaks", leaky], ROOT)
+        self.assertEqual(proc.returncode, 1, proc.stdout)
+        self.assertIn("assignments/integrator.cpp", proc.stdout)
+        shutil.rmtree(leaky)
+        proc = run([sys.executable, ROOT / "tools" / "release.py", "leaks", self.release], ROOT)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+
+    def test_builds_on_its_own_passes_its_tests_and_the_stubs_score_zero(self):
+        tested = run([self.release / "lab", "test"], self.release, timeout=500)
+        self.assertEqual(tested.returncode, 0, tested.stdout[-3000:] + tested.stderr[-3000:])
+        self.assertIn("100% tests passed", tested.stdout)
+        results = self.release / "results.json"
+        graded = run([self.release / "lab", "grade", "--json", results], self.release)
+        self.assertEqual(graded.returncode, 1, graded.stdout + graded.stderr)
+        data = json.loads(results.read_text())
+        self.assertEqual(data["score"], 0)
+        public = [t for t in grade.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
+                  if not t["hidden"]]
+        self.assertEqual([t["name"] for t in data["tests"]], [t["name"] for t in public])
+        self.assertEqual(data["max_score"], sum(t["points"] for t in public))
+        ran = run([self.release / "lab", "run", "--steps", "3"], self.release)
+        self.assertIn("hooks not implemented yet", ran.stdout)
+        # Instructors' commands refuse, in one line.
+        for cmd in (["release", self.tmp / "again"], ["grade", "--solutions"]):
+            proc = run([self.release / "lab", *cmd], self.release)
+            self.assertEqual(proc.returncode, 2, proc.stdout + proc.stderr)
+            self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+
+    def test_refuses_an_existing_folder_or_one_inside_the_lab(self):
+        occupied = self.tmp / "occupied"
+        occupied.mkdir()
+        (occupied / "mine.txt").write_text("keep me")
+        for target, message in ((occupied, "already exists"), (ROOT / "build" / "rel", "inside the lab")):
+            proc = run([ROOT / "lab", "release", target], ROOT)
+            self.assertEqual(proc.returncode, 2)
+            self.assertIn(message, proc.stderr)
+            self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertEqual([p.name for p in occupied.iterdir()], ["mine.txt"])
+        self.assertFalse((ROOT / "build" / "rel").exists())
+
+
+class GradescopeAutograder(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-gradescope-"))
+        cls.bundle = cls.tmp / "autograder"
+        cls.made = run([ROOT / "lab", "gradescope", cls.bundle], ROOT)
+        # The tree Gradescope builds: the zip unpacked to source/, setup.sh run once.
+        cls.fake = cls.tmp / "fake-root"
+        if cls.made.returncode == 0:
+            shutil.unpack_archive(str(cls.bundle) + ".zip", cls.fake / "source", "zip")
+            for script in ("setup.sh", "run_autograder", "lab"):
+                (cls.fake / "source" / script).chmod(0o755)
+            cls.setup = run([cls.fake / "source" / "setup.sh"], cls.fake / "source", timeout=500)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    def grade(self, files):
+        """Runs run_autograder on a submission {relative path: text}; returns results.json."""
+        submission = self.fake / "submission"
+        shutil.rmtree(submission, ignore_errors=True)
+        shutil.rmtree(self.fake / "results", ignore_errors=True)
+        submission.mkdir()
+        for rel, text in files.items():
+            (submission / rel).parent.mkdir(parents=True, exist_ok=True)
+            (submission / rel).write_text(text)
+        proc = run([self.fake / "source" / "run_autograder"], self.tmp, env={"GPL_AUTOGRADER_ROOT": str(self.fake)})
+        self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+        results = self.fake / "results" / "results.json"
+        check = run([sys.executable, CHECK_GRADESCOPE, results], self.tmp)
+        self.assertEqual(check.returncode, 0, check.stdout)
+        return json.loads(results.read_text())
+
+    def test_bundle_holds_hidden_tests_but_no_solutions(self):
+        self.assertEqual(self.made.returncode, 0, self.made.stdout + self.made.stderr)
+        for path in ("setup.sh", "run_autograder", "tools/grade.py", "assignments/integrator.cpp"):
+            self.assertTrue((self.bundle / path).is_file(), path)
+        self.assertTrue(list((self.bundle / "tests" / "autograder").glob("*_hidden_test.cpp")))
+        for path in ("solutions", "tests/mutants", "tests/grader", "worksheets"):
+            self.assertFalse((self.bundle / path).exists(), path)
+        for path, text in all_text(self.bundle).items():
+            for line in solution_code():
+                self.assertNotIn(line, text, path)
+        self.assertIn("--hidden-visibility after_published", (self.bundle / "run_autograder").read_text())
+        self.assertIn("libgtest-dev", (self.bundle / "setup.sh").read_text())
+
+    def test_setup_builds(self):
+        self.assertEqual(self.setup.returncode, 0, self.setup.stdout[-3000:] + self.setup.stderr[-3000:])
+
+    def test_full_marks_with_hidden_tests_after_publishing(self):
+        data = self.grade({n: (ROOT / "solutions" / n).read_text() for n in hooks.hook_files()})
+        self.assertEqual(data["score"], data["max_score"])
+        hidden = {t["name"] for t in hidden_tests()}
+        self.assertEqual({t["name"] for t in data["tests"] if t["visibility"] == "after_published"}, hidden)
+        self.assertTrue(all(t["visibility"] == "visible" for t in data["tests"] if t["name"] not in hidden))
+        self.assertEqual(data["stdout_visibility"], "hidden", "the printout names hidden tests")
+        self.assertEqual(data["max_score"], sum(t["points"] for t in grade.manifest(
+            pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")))
+
+    def test_a_whole_repository_with_a_mistake(self):
+        text = (ROOT / "solutions" / "integrator.cpp").read_text()
+        update = "        b.velocity += h * b.acceleration;\n        b.position += h * b.velocity;\n"
+        self.assertIn(update, text)
+        files = {"assignments/integrator.cpp": text.replace(update, "".join(reversed(update.splitlines(True)))),
+                 "assignments/simulation_timestep.cpp": (ROOT / "solutions" / "simulation_timestep.cpp").read_text(),
+                 "README.md": "my repository", "tests/autograder/worksheet1_test.cpp": "// mine"}
+        data = self.grade(files)
+        tests = {t["name"]: t for t in data["tests"]}
+        self.assertEqual(tests["Worksheet1.OneStepIsSemiImplicitEuler"]["status"], "failed")
+        self.assertIn("explicit Euler", tests["Worksheet1.OneStepIsSemiImplicitEuler"]["output"])
+        hidden = hidden_tests()[0]["name"]
+        self.assertTrue(tests[hidden]["output"].startswith("not run: depends on"), tests[hidden]["output"])
+        self.assertIn("ignored (only hook files are graded): README.md, tests/autograder/worksheet1_test.cpp",
+                      data["output"])
+
+    def test_a_submission_without_hook_files_still_gets_results(self):
+        data = self.grade({"report.pdf": "not code"})
+        self.assertEqual(data["score"], 0)
+        self.assertIn("none of the hook files", data["output"])
+
+
+if __name__ == "__main__":
+    unittest.main()

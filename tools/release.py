@@ -1,0 +1,299 @@
+#!/usr/bin/env python3
+"""Student releases and the Gradescope autograder, written from the instructor's tree.
+
+  release.py release DIR
+      the student release: framework, assignments (the stubs, generated from solutions/), public
+      tests, worksheets without worksheets/instructor/, README, lab, cmake/ and the grader. No
+      solutions, no hidden tests, no seeded mistakes, no instructor notes; it builds on its own.
+  release.py gradescope DIR [--hidden-visibility hidden|after_published]
+      the Gradescope autograder: setup.sh, run_autograder and the sources they need (hidden tests
+      included, no solutions: grading does not need them), and DIR.zip to upload.
+  release.py leaks DIR
+      exit 1, naming the files, when DIR holds solution code or hidden tests (the release checks
+      itself this way before it is put in place).
+
+DIR must not exist yet, or be an empty folder. Everything is written to a folder beside DIR first
+and renamed into place when complete, so a failed run leaves nothing behind.
+"""
+import argparse
+import os
+import pathlib
+import re
+import shutil
+import stat
+import sys
+import tempfile
+import zipfile
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tools"))
+import hooks  # noqa: E402
+
+HIDDEN_SUFFIX = "_hidden_test.cpp"   # tests/autograder/*_hidden_test.cpp hold the hidden tests
+HIDDEN_OPTION = "grading::hidden()"
+
+# What a student release holds: these files and folders of the instructor's tree (folders whole,
+# minus what EXCLUDED names). Anything new must be added here to reach students.
+RELEASED = ["README.md", "lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".gitignore",
+            "cmake", "framework", "bench", "worksheets", "tests/CMakeLists.txt", "tests/framework", "tests/autograder",
+            "tools/grade.py", "tools/hooks.py"]
+# The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
+GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
+              "tests/framework", "tests/autograder", "tools/grade.py", "tools/hooks.py"]
+EXCLUDED = {"worksheets/instructor", "__pycache__"}
+
+
+class ReleaseError(Exception):
+    pass
+
+
+# ---- What must not leak ---------------------------------------------------------------------------
+
+def _solution_lines():
+    """Lines of reference code (between BEGIN SOLUTION and ELSE STUB) that say something: longer than
+    a brace and not also part of the public engine (framework/), which students have anyway."""
+    public = "\n".join(p.read_text(errors="replace") for p in (ROOT / "framework").rglob("*") if p.is_file())
+    public_lines = {line.strip() for line in public.splitlines()}
+    secret = {}
+    for name in hooks.hook_files():
+        state = "code"
+        for line in (ROOT / "solutions" / name).read_text().splitlines():
+            tag = line.strip()
+            if tag in (hooks.BEGIN, hooks.ELSE, hooks.END):
+                state = {hooks.BEGIN: "solution", hooks.ELSE: "stub", hooks.END: "code"}[tag]
+            elif state == "solution" and len(tag) >= 12 and not tag.startswith("//") and tag not in public_lines:
+                secret[tag] = f"solutions/{name}"
+    return secret
+
+
+def _hidden_files():
+    files = sorted((ROOT / "tests" / "autograder").glob("*" + HIDDEN_SUFFIX))
+    for path in (ROOT / "tests" / "autograder").glob("*.cpp"):
+        declares_hidden = HIDDEN_OPTION in path.read_text()
+        if declares_hidden != (path in files):
+            raise ReleaseError(f"tests/autograder/{path.name}: hidden tests (declared with {HIDDEN_OPTION}) go in "
+                               f"files named *{HIDDEN_SUFFIX}, and only there")
+    for path in files:
+        text = path.read_text()
+        if text.count("GRADED_TEST(") != text.count(HIDDEN_OPTION):
+            raise ReleaseError(f"tests/autograder/{path.name}: every test in a *{HIDDEN_SUFFIX} file must be hidden")
+    return files
+
+
+def _hidden_text():
+    """Names, hints and longer lines of the hidden tests: none may appear in a release."""
+    hidden = _hidden_files()
+    public = "\n".join(p.read_text() for p in (ROOT / "tests" / "autograder").glob("*") if p.is_file() and p not in hidden)
+    public += "\n".join(f"{suite}.{name}" for suite, name in re.findall(r"GRADED_TEST\(\s*(\w+)\s*,\s*(\w+)", public))
+    secret = {}
+    for path in hidden:
+        text = path.read_text()
+        for suite, name in re.findall(r"GRADED_TEST\(\s*(\w+)\s*,\s*(\w+)", text):
+            secret[name] = path.name
+        for literal in re.findall(r'"([^"\n]{25,})"', text):
+            secret[literal] = path.name
+        for line in text.splitlines():
+            if len(line.strip()) >= 40 and not line.strip().startswith("#include"):
+                secret[line.strip()] = path.name
+    return {s: origin for s, origin in secret.items() if s not in public}
+
+
+def leaks(folder):
+    """[(file in folder, what leaked, from where)] for solution code and hidden test text."""
+    folder = pathlib.Path(folder)
+    secrets = {**_solution_lines(), **_hidden_text()}
+    found = []
+    for path in sorted(folder.rglob("*")):
+        if not path.is_file() or "build" in path.relative_to(folder).parts[:1]:
+            continue
+        text = path.read_text(errors="replace")
+        for secret, origin in secrets.items():
+            if secret in text:
+                found.append((str(path.relative_to(folder)), secret, origin))
+    for forbidden in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor"):
+        if (folder / forbidden).exists():
+            found.append((forbidden, "the folder itself", forbidden))
+    return found
+
+
+# ---- Writing a tree -------------------------------------------------------------------------------
+
+def _copy(entries, target, skip_hidden):
+    hidden = set(_hidden_files()) if skip_hidden else set()
+    for entry in entries:
+        source = ROOT / entry
+        if not source.exists():
+            raise ReleaseError(f"{entry} is missing from {ROOT}")
+        paths = [source] if source.is_file() else sorted(p for p in source.rglob("*") if p.is_file())
+        for path in paths:
+            rel = path.relative_to(ROOT)
+            if any(str(rel) == e or str(rel).startswith(e + "/") or e in rel.parts for e in EXCLUDED):
+                continue
+            if path in hidden:
+                continue
+            (target / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(path, target / rel)
+
+
+def _write_assignments(target):
+    """The stubs, generated from solutions/ (never the instructor's possibly edited assignments/)."""
+    for name, text in hooks.expected_assignments().items():
+        (target / "assignments" / name).parent.mkdir(parents=True, exist_ok=True)
+        (target / "assignments" / name).write_text(text)
+
+
+def _packages():
+    """The Debian packages of lab's PACKAGES list (one list for lab and the autograder)."""
+    text = (ROOT / "lab").read_text()
+    block = re.search(r"^PACKAGES=\((.*?)^\)", text, re.S | re.M)
+    if not block:
+        raise ReleaseError("cannot find the PACKAGES list in lab")
+    return [w for line in block.group(1).splitlines() for w in line.split("#")[0].split()]
+
+
+def _executable(path, text):
+    path.write_text(text)
+    path.chmod(path.stat().st_mode | stat.S_IXUSR | stat.S_IXGRP | stat.S_IXOTH)
+
+
+SETUP = """#!/usr/bin/env bash
+# Gradescope runs this once, as root, when it builds the autograder image: it installs the Debian
+# packages the lab needs (those missing) and builds the engine and the tests, so that grading a
+# submission compiles only the submission's hook files.
+set -euo pipefail
+cd "$(dirname "${{BASH_SOURCE[0]}}")"
+packages=({packages})
+missing=()
+for p in "${{packages[@]}}"; do
+  dpkg-query -W -f='${{Status}}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [[ ${{#missing[@]}} -gt 0 ]]; then
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -q
+  apt-get install -y -q --no-install-recommends "${{missing[@]}}"
+fi
+python3 tools/grade.py prebuild --build-dir build/release
+"""
+
+RUN_AUTOGRADER = """#!/usr/bin/env bash
+# Gradescope runs this for each submission: the student's files in $AUTOGRADER/submission (the hook
+# files, at the top or in assignments/), the results in $AUTOGRADER/results/results.json.
+# AUTOGRADER is /autograder unless GPL_AUTOGRADER_ROOT says otherwise (the lab's tests use a
+# temporary folder). Hidden tests are shown to students: {visibility}.
+set -uo pipefail
+AUTOGRADER="${{GPL_AUTOGRADER_ROOT:-/autograder}}"
+SOURCE="$AUTOGRADER/source"
+RESULTS="$AUTOGRADER/results/results.json"
+mkdir -p "$AUTOGRADER/results"
+python3 "$SOURCE/tools/grade.py" grade --build-dir "$SOURCE/build/release" --submission "$AUTOGRADER/submission" \\
+  --json "$RESULTS" --hidden-visibility {visibility} 2>"$AUTOGRADER/results/errors.txt"
+status=$?
+cat "$AUTOGRADER/results/errors.txt" >&2
+if [[ $status -eq 2 ]]; then
+  # The grading could not run (no hook files in the submission, ...): zero, and the reason.
+  python3 "$SOURCE/tools/grade.py" failure --json "$RESULTS" --message "$(head -c 2000 "$AUTOGRADER/results/errors.txt")"
+fi
+exit 0
+"""
+
+
+def _in_place(target, fill):
+    """Fills a fresh folder beside target, then renames it to target: all or nothing."""
+    target = pathlib.Path(target).resolve()
+    if target.exists() and (not target.is_dir() or any(target.iterdir())):
+        raise ReleaseError(f"{target} already exists and is not an empty folder")
+    if target == ROOT or ROOT in target.parents:
+        raise ReleaseError(f"{target} is inside the lab ({ROOT}); write it elsewhere")
+    if not target.parent.is_dir() or not os.access(target.parent, os.W_OK):
+        raise ReleaseError(f"cannot write {target}: the folder {target.parent} does not exist or is not writable")
+    staging = pathlib.Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        fill(staging)
+        staging.chmod(0o755)
+        if target.exists():
+            target.rmdir()
+        staging.rename(target)
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+
+
+def release(target):
+    def fill(tree):
+        _copy(RELEASED, tree, skip_hidden=True)
+        _write_assignments(tree)
+        found = leaks(tree)
+        if found:
+            where, what, origin = found[0]
+            raise ReleaseError(f"the release would leak {origin} into {where}: {what!r}")
+    _in_place(target, fill)
+    print(f"wrote the student release to {target}: no solutions, no hidden tests, no seeded mistakes")
+    return 0
+
+
+def gradescope(target, visibility):
+    zip_path = pathlib.Path(str(pathlib.Path(target).resolve()) + ".zip")
+    if zip_path.exists():
+        raise ReleaseError(f"{zip_path} already exists")
+
+    def fill(tree):
+        _copy(GRADESCOPE, tree, skip_hidden=False)
+        _write_assignments(tree)
+        _executable(tree / "setup.sh", SETUP.format(packages=" ".join(_packages())))
+        _executable(tree / "run_autograder", RUN_AUTOGRADER.format(visibility=visibility))
+        solution = [(w, s) for w, s, _ in leaks(tree) if s in _solution_lines() or w == "solutions"]
+        if solution:
+            raise ReleaseError(f"the autograder would hold solution code in {solution[0][0]}")
+        tmp_zip = zip_path.with_name(f".{zip_path.name}.partial")
+        with zipfile.ZipFile(tmp_zip, "w", zipfile.ZIP_DEFLATED) as z:
+            for path in sorted(tree.rglob("*")):
+                if path.is_file():
+                    info = zipfile.ZipInfo.from_file(path, str(path.relative_to(tree)))
+                    with open(path, "rb") as f:
+                        z.writestr(info, f.read(), zipfile.ZIP_DEFLATED)
+        tmp_zip.rename(zip_path)
+
+    try:
+        _in_place(target, fill)
+    except BaseException:
+        zip_path.unlink(missing_ok=True)
+        raise
+    print(f"wrote the Gradescope autograder to {target} and {zip_path} (upload the zip); "
+          f"hidden tests: {visibility}")
+    return 0
+
+
+class OneLineParser(argparse.ArgumentParser):
+    def error(self, message):
+        print(f"error: {message} (release.py -h for help)", file=sys.stderr)
+        sys.exit(2)
+
+
+def main(argv):
+    parser = OneLineParser(prog="release.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
+    sub.add_parser("release").add_argument("dir")
+    g = sub.add_parser("gradescope")
+    g.add_argument("dir")
+    g.add_argument("--hidden-visibility", choices=("hidden", "after_published"), default="after_published",
+                   help="when students see the hidden tests' results: never, or once grades are published")
+    sub.add_parser("leaks").add_argument("dir")
+    args = parser.parse_args(argv)
+    try:
+        if not (ROOT / "solutions").is_dir():
+            raise ReleaseError("this is a student release: releases are written from the instructor's tree")
+        if args.command == "release":
+            return release(args.dir)
+        if args.command == "gradescope":
+            return gradescope(args.dir, args.hidden_visibility)
+        found = leaks(args.dir)
+        for where, what, origin in found:
+            print(f"{where}: {what!r} (from {origin})")
+        return 1 if found else 0
+    except (ReleaseError, hooks.HookError, OSError) as e:
+        print(f"error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
