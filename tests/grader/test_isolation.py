@@ -10,10 +10,13 @@ import pathlib
 import re
 import shutil
 import subprocess
+import sys
 import tempfile
 import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tools"))
+import hooks  # noqa: E402
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 SOLUTION = (ROOT / "solutions" / "integrator.cpp").read_text()
 UPDATE = "        b.velocity += h * b.acceleration;\n"
@@ -101,7 +104,9 @@ class Misbehaving(unittest.TestCase):
             sub = batch / name
             sub.mkdir(parents=True)
             (sub / "integrator.cpp").write_text(text)
-            shutil.copy(ROOT / "solutions" / "simulation_timestep.cpp", sub)
+            for hook in hooks.hook_files():
+                if hook not in ("integrator.cpp", "student_scenes.cpp"):
+                    shutil.copy(ROOT / "solutions" / hook, sub)
         # A submission cannot bring its own tests: the file is ignored.
         fake = batch / "writes_tests" / "tests" / "autograder" / "worksheet1_test.cpp"
         fake.parent.mkdir(parents=True)
