@@ -902,7 +902,7 @@ class OneLineParser(argparse.ArgumentParser):
     """Usage errors as one line ("error: ..."), exit status 2."""
 
     def error(self, message):
-        print(f"error: {message} (grade.py -h for help)", file=sys.stderr)
+        print(f"error: {message} ({self.prog.split()[0]} -h for help)", file=sys.stderr)
         sys.exit(2)
 
 

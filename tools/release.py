@@ -28,6 +28,7 @@ import zipfile
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 import hooks  # noqa: E402
+from grade import OneLineParser  # noqa: E402
 
 HIDDEN_SUFFIX = "_hidden_test.cpp"   # tests/autograder/*_hidden_test.cpp hold the hidden tests
 HIDDEN_OPTION = "grading::hidden()"
@@ -261,12 +262,6 @@ def gradescope(target, visibility):
     print(f"wrote the Gradescope autograder to {target} and {zip_path} (upload the zip); "
           f"hidden tests: {visibility}")
     return 0
-
-
-class OneLineParser(argparse.ArgumentParser):
-    def error(self, message):
-        print(f"error: {message} (release.py -h for help)", file=sys.stderr)
-        sys.exit(2)
 
 
 def main(argv):
