@@ -80,9 +80,9 @@ void container(PhysicsEngine& e) {
 
 void addWorksheet2Scenes(SceneRegistry& r) {
     r.add({"pendulum", "5", "A rod pendulum released at 60 degrees; the rod is a distance constraint.", 2, kConstrained,
-           kDefaultTimeStep, pendulum, Integrator::PositionVerlet});
+           kDefaultTimeStep, pendulum, Integrator::PositionVerlet, Vec3(0.0, 4.0, 0.0), 7.0});
     r.add({"chain", "6", "A chain of twelve links released horizontally from a pivot.", 2, kConstrained,
-           kDefaultTimeStep, chain, Integrator::PositionVerlet});
+           kDefaultTimeStep, chain, Integrator::PositionVerlet, Vec3(0.0, 3.5, 0.0), 11.0});
     r.add({"spring-oscillator", "7", "Springs: undamped, damped, and two bodies in series.", 2, kSprings,
            kDefaultTimeStep, springOscillator, Integrator::VelocityVerlet});
     r.add({"container", "8", "300 balls dropped into a round container; contacts resolved by moving positions.", 2,
