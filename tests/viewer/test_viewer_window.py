@@ -171,6 +171,14 @@ class Window(unittest.TestCase):
         self.assertEqual(len(folders), 1, log)
         self.assertGreaterEqual(len(list(folders[0].glob("frame_*.png"))), 10)
         self.assertFalse(states[0]["recording"])
+        # ./lab installs ffmpeg, so stopping a recording also makes a video of the frames.
+        video = folders[0] / "video.mp4"
+        self.assertTrue(video.is_file(), log)
+        probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-show_entries", "stream=width,height,nb_read_frames",
+                                "-of", "csv=p=0", str(video)], capture_output=True, text=True)
+        width, height, frames = map(int, probe.stdout.strip().split(","))
+        self.assertEqual((width, height), (1280, 720))
+        self.assertEqual(frames, len(list(folders[0].glob("frame_*.png"))))
 
     def test_bad_input_is_an_error_not_a_crash(self):
         rc, _, log = viewer(SOLUTIONS, "no-such-scene", "--frames", 1)
