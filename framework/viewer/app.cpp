@@ -331,7 +331,7 @@ void App::stopRecording() {
     const std::string dir = recording_;
     recording_.clear();
     std::string text = "recorded " + std::to_string(recorded_) + " frames in " + dir;
-    if (recorded_ > 0 && std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {
+    if (recorded_ > 1 && std::system("command -v ffmpeg >/dev/null 2>&1") == 0) {
         const std::string cmd = "ffmpeg -y -loglevel error -framerate 60 -i '" + dir +
                                 "/frame_%05d.png' -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' '" + dir +
                                 "/video.mp4'";

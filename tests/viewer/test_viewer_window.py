@@ -236,7 +236,7 @@ class LabCommands(unittest.TestCase):
             proc = self.lab("viewer", "--solutions", "--headless", "projectile", "--frames", 3, "--out", tmp)
             self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
             self.assertEqual(sorted(p.name for p in pathlib.Path(tmp).iterdir()),
-                             ["frame_00001.png", "frame_00002.png", "frame_00003.png"])
+                             ["frame_00001.png", "frame_00002.png", "frame_00003.png", "video.mp4"])
 
     def test_viewer_without_a_display_says_what_to_do(self):
         proc = self.lab("viewer")
@@ -249,6 +249,7 @@ class LabCommands(unittest.TestCase):
         self.assertIn("total energy:", proc.stdout)
         snapshot = ROOT / "build" / "snapshots" / "masses.png"
         self.assertIn(str(snapshot.relative_to(ROOT)), proc.stdout)
+        self.assertFalse((snapshot.parent / "video.mp4").exists(), "one frame makes no video")
         self.assertGreater(not_sky_fraction(snapshot), 0.2)
 
 
