@@ -19,6 +19,18 @@ void PhysicsEngine::simulationTimestep() {
     // (integrator() for semi-implicit Euler).
     if (stageActive(Stage::Integration)) integrate();
 
+    // Contacts: pairs that overlap, from the broad phase and the collision kernels (worksheet 3).
+    if (stageActive(Stage::CollisionDetection)) detectCollisions();
+
+    // Ropes: every taut rope joins the contacts as one that pulls (worksheet 4).
+    if (stageActive(Stage::Ropes)) addRopeContacts();
+
+    // Impulses: velocities at the contacts change so that the bodies separate (worksheet 4).
+    if (stageActive(Stage::CollisionImpulses)) applyCollisionImpulses();
+
+    // Interpenetration: overlapping bodies move apart, shared by mass (worksheet 3).
+    if (stageActive(Stage::Interpenetration)) resolveInterpenetrations();
+
     // Constraints: move positions onto rods, chains and the container, and spheres apart (worksheet 2).
     if (stageActive(Stage::Constraints) || stageActive(Stage::ParticleCollisions)) projectConstraints();
 }

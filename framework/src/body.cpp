@@ -95,6 +95,7 @@ Body plane(const std::string& name, const Vec3& normal) {
     b.name = name;
     b.shape = Shape::Plane;
     b.normal = normal.normalized();
+    b.restitution = 1.0;
     b.makeStatic();
     return b;
 }
@@ -108,8 +109,14 @@ void validate(const Body& b) {
     if (!std::isfinite(b.invMass) || b.invMass < 0.0) fail("inverse mass must be finite and >= 0");
     if (!b.isStatic() && !(std::isfinite(b.mass) && b.mass > 0.0)) fail("mass must be a positive finite number");
     if (!b.isStatic() && std::abs(b.mass * b.invMass - 1.0) > 1e-12) fail("mass and inverse mass disagree");
-    if (b.restitution < 0.0 || b.restitution > 1.0) fail("restitution must lie in [0, 1]");
-    if (!(b.friction >= 0.0)) fail("friction must be >= 0");
+    if (b.shape == Shape::Sphere && !(std::isfinite(b.radius) && b.radius > 0.0))
+        fail("radius must be a positive finite number of metres, got " + formatNumber(b.radius));
+    if (b.shape == Shape::Plane && !(isFinite(b.normal) && b.normal.norm() > 0.0))
+        fail("normal must be a finite, non-zero vector");
+    if (!(b.restitution >= 0.0 && b.restitution <= 1.0))
+        fail("restitution must lie in [0, 1], got " + formatNumber(b.restitution));
+    if (!(b.friction >= 0.0 && std::isfinite(b.friction)))
+        fail("friction must be a finite number >= 0, got " + formatNumber(b.friction));
 }
 
 double kineticEnergy(const Body& b) {

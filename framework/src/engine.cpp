@@ -44,10 +44,13 @@ void PhysicsEngine::remove(std::size_t index) {
     };
     dropAndRenumber(springs_);
     dropAndRenumber(distances_);
+    dropAndRenumber(ropes_);
+    contacts_.clear();
 }
 
 void PhysicsEngine::restore(const State& s) {
     bodies_ = s.bodies;
+    contacts_.clear();
     time_ = s.time;
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
@@ -57,6 +60,8 @@ void PhysicsEngine::clear() {
     bodies_.clear();
     springs_.clear();
     distances_.clear();
+    ropes_.clear();
+    contacts_.clear();
     container_.reset();
     previousPositions_.clear();
     time_ = 0.0;
@@ -121,6 +126,38 @@ std::size_t PhysicsEngine::addDistanceConstraint(const std::string& a, const std
     return distances_.size() - 1;
 }
 
+std::size_t PhysicsEngine::addRope(const std::string& a, const std::string& b) {
+    const double distance = (bodies_[bodyIndex(a)].position - bodies_[bodyIndex(b)].position).norm();
+    return addRope(a, b, distance);
+}
+
+std::size_t PhysicsEngine::addRope(const std::string& a, const std::string& b, double length) {
+    Rope r;
+    r.a = bodyIndex(a);
+    r.b = bodyIndex(b);
+    requireTwoEnds(bodies_, r.a, r.b, "a rope");
+    const std::string where = "rope '" + a + "'-'" + b + "': ";
+    if (!std::isfinite(length) || length <= 0.0) {
+        throw std::invalid_argument(where + "length must be a positive finite number of metres, got " +
+                                    formatNumber(length));
+    }
+    const double distance = (bodies_[r.a].position - bodies_[r.b].position).norm();
+    if (distance > length * (1.0 + 1e-12)) {  // rounding of the distance the caller measured
+        throw std::invalid_argument(where + "length " + formatNumber(length) + " m is shorter than the bodies' distance " +
+                                    formatNumber(distance) + " m: the rope would start stretched");
+    }
+    r.length = length;
+    ropes_.push_back(r);
+    return ropes_.size() - 1;
+}
+
+void PhysicsEngine::setContactIterations(int iterations) {
+    if (iterations < 1) {
+        throw std::invalid_argument("contact iterations must be at least 1, got " + std::to_string(iterations));
+    }
+    contactIterations_ = iterations;
+}
+
 void PhysicsEngine::setContainer(const Vec3& centre, double radius) {
     if (!isFinite(centre)) throw std::invalid_argument("container centre must be finite");
     if (!std::isfinite(radius) || radius <= 0.0) {
@@ -164,6 +201,7 @@ void PhysicsEngine::setStageEnabled(Stage stage, bool on) {
 }
 
 void PhysicsEngine::step() {
+    contacts_.clear();
     simulationTimestep();
     time_ += timeStep_;
     ++steps_;
@@ -223,7 +261,7 @@ void PhysicsEngine::integrate() {
     const AccelerationFunction accel = [this](const std::vector<Vec3>& x, const std::vector<Vec3>& v,
                                               std::vector<Vec3>& a) { accelerations(x, v, a); };
     gpl::integrate(integratorKind_, s, accel, timeStep_);
-    for (const std::string& hook : kernelsNotImplemented()) missing_.insert(hook);
+    recordOpenKernels();
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Body& b = bodies_[i];
         if (b.isStatic()) continue;
@@ -237,18 +275,16 @@ void PhysicsEngine::integrate() {
 void PhysicsEngine::projectConstraints() {
     const bool constraints = stageActive(Stage::Constraints);
     const bool collisions = stageActive(Stage::ParticleCollisions);
-    std::vector<Vec3> before;
-    for (const Body& b : bodies_) before.push_back(b.position);
+    start_.clear();
+    for (const Body& b : bodies_) start_.push_back(b.position);
     for (int sweep = 0; sweep < constraintIterations_; ++sweep) {
         if (collisions) {
-            for (std::size_t i = 0; i < bodies_.size(); ++i) {
-                Body& a = bodies_[i];
-                if (a.shape != Shape::Sphere) continue;
-                for (std::size_t j = i + 1; j < bodies_.size(); ++j) {
-                    Body& b = bodies_[j];
-                    if (b.shape != Shape::Sphere) continue;
-                    separateSpheres(a.position, b.position, a.radius, b.radius, a.invMass, b.invMass);
-                }
+            // Pairs anew every sweep: the sweeps before may have pushed spheres into new neighbours.
+            for (const BodyPair& pair : broadPhase_.findPairs(bodies_)) {
+                Body& a = bodies_[pair.a];
+                Body& b = bodies_[pair.b];
+                if (a.shape != Shape::Sphere || b.shape != Shape::Sphere) continue;
+                separateSpheres(a.position, b.position, a.radius, b.radius, a.invMass, b.invMass);
             }
         }
         // Constraints last, so that the container and the rods have the final word in each sweep.
@@ -266,8 +302,12 @@ void PhysicsEngine::projectConstraints() {
         }
     }
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        bodies_[i].velocity += (bodies_[i].position - before[i]) / timeStep_;
+        bodies_[i].velocity += (bodies_[i].position - start_[i]) / timeStep_;
     }
+}
+
+void PhysicsEngine::recordOpenKernels() {
+    for (const std::string& hook : kernelsNotImplemented()) missing_.insert(hook);
 }
 
 void PhysicsEngine::notImplemented(const std::string& hook) {

@@ -1,9 +1,6 @@
 #include "gpl/integrators.h"
 
 #include <cmath>
-#include <iostream>
-#include <mutex>
-#include <set>
 #include <stdexcept>
 
 namespace gpl {
@@ -29,15 +26,6 @@ const IntegratorInfo& info(Integrator method) {
         if (i.method == method) return i;
     }
     throw std::invalid_argument("unknown integrator");
-}
-
-std::mutex& hooksMutex() {
-    static std::mutex mutex;
-    return mutex;
-}
-std::set<std::string>& openKernelHooks() {
-    static std::set<std::string> hooks;
-    return hooks;
 }
 
 }  // namespace
@@ -140,16 +128,6 @@ void integrate(Integrator method, ParticleState& s, const AccelerationFunction& 
             return rungeKutta4(s, accel, h);
     }
     throw std::invalid_argument("unknown integrator");
-}
-
-void kernelNotImplemented(const std::string& hook) {
-    const std::lock_guard<std::mutex> lock(hooksMutex());
-    if (openKernelHooks().insert(hook).second) std::cerr << "not implemented: " << hook << '\n';
-}
-
-std::vector<std::string> kernelsNotImplemented() {
-    const std::lock_guard<std::mutex> lock(hooksMutex());
-    return {openKernelHooks().begin(), openKernelHooks().end()};
 }
 
 }  // namespace gpl

@@ -51,6 +51,8 @@ const SceneRegistry& scenes() {
         SceneRegistry r;
         addWorksheet1Scenes(r);
         addWorksheet2Scenes(r);
+        addWorksheet3Scenes(r);
+        addWorksheet4Scenes(r);
         addStudentScenes(r);
         return r;
     }();

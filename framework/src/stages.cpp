@@ -10,6 +10,14 @@ const char* stageName(Stage stage) {
             return "springs";
         case Stage::Integration:
             return "integrate";
+        case Stage::CollisionDetection:
+            return "collisions";
+        case Stage::Ropes:
+            return "ropes";
+        case Stage::CollisionImpulses:
+            return "impulses";
+        case Stage::Interpenetration:
+            return "interpenetration";
         case Stage::Constraints:
             return "constraints";
         case Stage::ParticleCollisions:

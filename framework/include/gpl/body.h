@@ -52,7 +52,7 @@ struct Body {
     Body& moving(const Vec3& v);
     Body& spinning(const Vec3& w);
     Body& rotated(const Quat& q);
-    Body& bouncy(double e);
+    Body& bouncy(double e);  ///< sets the restitution (checked by validate())
     /// Makes the body static: it never moves and is not affected by forces.
     Body& makeStatic();
 };
@@ -62,7 +62,9 @@ struct Body {
 Body sphere(const std::string& name, double radius, double mass);
 /// A solid box with the given half extents (m) and mass (kg). Same checks as sphere().
 Body box(const std::string& name, const Vec3& halfExtents, double mass);
-/// An infinite static plane through the origin with the given normal (normalised here).
+/// An infinite static plane through the origin with the given normal (normalised here), the
+/// side it points to free and the side behind it solid. Its restitution is 1, so that with the
+/// product rule (combineRestitution()) a ball bounces off it with the ball's own coefficient.
 Body plane(const std::string& name, const Vec3& normal);
 
 /// Throws std::invalid_argument with a message naming the body and the field when the body's

@@ -9,6 +9,10 @@
 //   applySpringForces()           adds the springs' accelerations to the accumulators
 //   integrate()                   one step with the chosen integrator (integrator() for semi-implicit Euler)
 //   projectConstraints()          moves positions onto rods, chains, the container; separates spheres
+//   detectCollisions()            broad phase, then the collision kernels (worksheet 3): contacts()
+//   addRopeContacts()             every taut rope becomes a contact (worksheet 4)
+//   applyCollisionImpulses()      sweeps of applyCollisionImpulse() over contacts() (worksheet 4)
+//   resolveInterpenetrations()    sweeps of resolveInterpenetration() over contacts() (worksheet 3)
 #pragma once
 
 #include <cstddef>
@@ -19,7 +23,9 @@
 #include <vector>
 
 #include "gpl/body.h"
+#include "gpl/broadphase.h"
 #include "gpl/constraints.h"
+#include "gpl/contact.h"
 #include "gpl/forces.h"
 #include "gpl/integrators.h"
 #include "gpl/stages.h"
@@ -52,7 +58,8 @@ public:
     /// Removes the body at this index with the springs and constraints attached to it (throws
     /// std::out_of_range when there is none).
     void remove(std::size_t index);
-    /// Removes every body, spring and constraint and the container, and resets time and the step counter.
+    /// Removes every body, spring, constraint and rope and the container, and resets time and the
+    /// step counter.
     void clear();
 
     /// The whole dynamic state: bodies, time, step counter and position Verlet's previous
@@ -80,6 +87,20 @@ public:
     const std::vector<Spring>& springs() const { return springs_; }
     const std::vector<DistanceConstraint>& distanceConstraints() const { return distances_; }
     const std::optional<Container>& container() const { return container_; }
+
+    // ---- Ropes and contacts (worksheets 3, 4) -----------------------------------------------------
+    /// A rope between two bodies that keeps them at most `length` m apart (their current distance
+    /// when omitted) and only pulls. Throws std::invalid_argument on a bad body, two static ends, or
+    /// a length that is not a positive finite number or is shorter than the bodies' distance now.
+    std::size_t addRope(const std::string& a, const std::string& b);
+    std::size_t addRope(const std::string& a, const std::string& b, double length);
+    const std::vector<Rope>& ropes() const { return ropes_; }
+    /// The contacts of the last step: found by detectCollisions() and addRopeContacts().
+    const std::vector<Contact>& contacts() const { return contacts_; }
+    /// Sweeps over the contacts per step, for impulses and for interpenetration alike (>= 1; throws
+    /// std::invalid_argument otherwise). A sweep that finds nothing to do ends the stage early.
+    int contactIterations() const { return contactIterations_; }
+    void setContactIterations(int iterations);
 
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }
@@ -131,6 +152,18 @@ public:
     /// where their stages are active, divided by the mass; zero for static bodies (m/s^2).
     void accelerations(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& a) const;
 
+    // ---- Framework stages (worksheets 3, 4): one source file each --------------------------------
+    /// Adds a contact for every pair of bodies that overlap: pairs from the broad phase, decided by
+    /// sphereSphere() and spherePlane() (collision.cpp).
+    void detectCollisions();
+    /// Adds a contact for every taut rope, from ropeContact() (collision.cpp).
+    void addRopeContacts();
+    /// Sweeps applyCollisionImpulse() over contacts() until none approaches (impulses.cpp).
+    void applyCollisionImpulses();
+    /// Sweeps resolveInterpenetration() over contacts() until none overlaps; without the impulse
+    /// stage the velocities follow the displacements, as in projectConstraints() (interpenetration.cpp).
+    void resolveInterpenetrations();
+
     // ---- Hooks not implemented yet ------------------------------------------------------------
     /// Called by a stub: records the hook and prints "not implemented: <hook>" once per process.
     void notImplemented(const std::string& hook);
@@ -160,8 +193,15 @@ private:
     Integrator integratorKind_ = Integrator::SemiImplicitEuler;
     int constraintIterations_ = 4;
     std::vector<Vec3> previousPositions_;  ///< position Verlet's x_{n-1} per body (m); empty: not started
+    std::vector<Rope> ropes_;
+    std::vector<Contact> contacts_;  ///< this step's, emptied when a step begins
+    int contactIterations_ = 10;
+    BroadPhase broadPhase_;
+    std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
 
     std::size_t bodyIndex(const std::string& name) const;
+    /// Copies the kernel hooks whose stubs ran into missingHooks().
+    void recordOpenKernels();
 };
 
 }  // namespace gpl

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "gpl/hooks.h"
 #include "gpl/math.h"
 
 namespace gpl {
@@ -72,13 +73,5 @@ void rungeKutta4(ParticleState& state, const AccelerationFunction& accel, double
 
 /// One step with the chosen kernel.
 void integrate(Integrator method, ParticleState& state, const AccelerationFunction& accel, double h);
-
-// ---- Hooks not implemented yet --------------------------------------------------------------
-/// Called by the stub of a kernel hook (no engine at hand): records the hook and prints
-/// "not implemented: <hook>" once per process. Whether a hook is written is a property of the
-/// code that is linked, so the record is per process.
-void kernelNotImplemented(const std::string& hook);
-/// Kernel hooks whose stubs have run in this process.
-std::vector<std::string> kernelsNotImplemented();
 
 }  // namespace gpl

@@ -48,6 +48,8 @@ void load(PhysicsEngine& engine, const Scene& scene);
 // Registration functions, one per group of scenes (called by scenes()).
 void addWorksheet1Scenes(SceneRegistry& registry);
 void addWorksheet2Scenes(SceneRegistry& registry);
+void addWorksheet3Scenes(SceneRegistry& registry);
+void addWorksheet4Scenes(SceneRegistry& registry);
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl

@@ -1,0 +1,48 @@
+// The broad phase: which pairs of bodies may touch, found without testing every pair.
+//
+// Sort and sweep: every finite body (sphere, box) gets an axis-aligned bounding box; the boxes are
+// sorted along the axis on which the bodies spread most, and a sweep along it tests only boxes
+// whose intervals overlap there. Static planes are infinite: each pairs with every movable body
+// whose box reaches the plane. Two static bodies never pair. The result is exactly the pairs whose
+// bounding volumes overlap (bruteForcePairs() tests every pair the same way), in the same order.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "gpl/body.h"
+
+namespace gpl {
+
+/// Two bodies by index, a < b.
+struct BodyPair {
+    std::size_t a = 0;
+    std::size_t b = 0;
+    bool operator==(const BodyPair& o) const { return a == o.a && b == o.b; }
+    bool operator<(const BodyPair& o) const { return a < o.a || (a == o.a && b < o.b); }
+};
+
+/// Axis-aligned bounding box of a sphere or a box in world coordinates (m).
+struct Aabb {
+    Vec3 min = Vec3::Zero();
+    Vec3 max = Vec3::Zero();
+};
+Aabb boundingBox(const Body& body);
+
+class BroadPhase {
+public:
+    /// Pairs whose bounding volumes overlap (touching counts), sorted by (a, b). The buffers are
+    /// kept between calls, so a step allocates nothing once the scene has settled.
+    const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies);
+
+private:
+    std::vector<Aabb> boxes_;
+    std::vector<std::size_t> order_;
+    std::vector<std::size_t> planes_;
+    std::vector<BodyPair> pairs_;
+};
+
+/// The same pairs by testing every pair of bodies: O(N^2), for tests and as the definition.
+std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies);
+
+}  // namespace gpl

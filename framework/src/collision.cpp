@@ -1,0 +1,51 @@
+// Collision detection in the engine: the broad phase proposes pairs, the kernels of
+// gpl/collision.h decide, and taut ropes join the contacts.
+#include "gpl/collision.h"
+
+#include "gpl/engine.h"
+
+namespace gpl {
+
+std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j) {
+    const Body& p = bodies[i];
+    const Body& q = bodies[j];
+    if (p.isStatic() && q.isStatic()) return std::nullopt;
+    std::optional<Contact> c;
+    if (p.shape == Shape::Sphere && q.shape == Shape::Sphere) {
+        c = sphereSphere(p, q);
+        if (c) c->a = i, c->b = j;
+    } else if (p.shape == Shape::Sphere && q.shape == Shape::Plane) {
+        c = spherePlane(p, q);
+        if (c) c->a = i, c->b = j;
+    } else if (p.shape == Shape::Plane && q.shape == Shape::Sphere) {
+        c = spherePlane(q, p);
+        if (c) c->a = j, c->b = i;
+    }
+    if (c) c->restitution = combineRestitution(p.restitution, q.restitution);
+    return c;
+}
+
+double normalVelocity(const Contact& contact, const Body& a, const Body& b) {
+    return (b.velocity - a.velocity).dot(contact.normal);
+}
+
+void PhysicsEngine::detectCollisions() {
+    for (const BodyPair& pair : broadPhase_.findPairs(bodies_)) {
+        if (std::optional<Contact> c = collide(bodies_, pair.a, pair.b)) contacts_.push_back(*c);
+    }
+    recordOpenKernels();
+}
+
+void PhysicsEngine::addRopeContacts() {
+    for (const Rope& rope : ropes_) {
+        std::optional<Contact> c = ropeContact(bodies_[rope.a], bodies_[rope.b], rope.length);
+        if (!c) continue;
+        c->a = rope.a;
+        c->b = rope.b;
+        c->restitution = 0.0;  // a rope stops the stretch; it does not bounce back
+        contacts_.push_back(*c);
+    }
+    recordOpenKernels();
+}
+
+}  // namespace gpl
