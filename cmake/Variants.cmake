@@ -4,14 +4,34 @@
 file(STRINGS ${CMAKE_CURRENT_LIST_DIR}/hook_files.txt GPL_HOOK_FILES REGEX "^[^#]")
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/hook_files.txt)
 
-# gpl_add_variant(NAME DIR): the object library gpl_hooks_NAME and the runner gpl-run-NAME.
+# gpl_add_variant(NAME DIR [REUSE OTHER] [COMPILE_OPTIONS OPTION...]): the library gpl_hooks_NAME
+# (link it to get the variant's hook objects) and the runner gpl-run-NAME. Each hook file is an
+# object library of its own; with REUSE, a file whose text equals variant OTHER's is not compiled
+# again but taken from OTHER (a seeded mistake changes one file: it compiles one file).
 function(gpl_add_variant name dir)
-  set(sources)
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "REUSE" "COMPILE_OPTIONS")
+  set(objects)
   foreach(file IN LISTS GPL_HOOK_FILES)
-    list(APPEND sources ${dir}/${file})
+    string(MAKE_C_IDENTIFIER ${file} id)
+    if(arg_REUSE)
+      file(READ ${dir}/${file} mine)
+      file(READ ${GPL_VARIANT_DIR_${arg_REUSE}}/${file} theirs)
+      if(mine STREQUAL theirs)
+        list(APPEND objects $<TARGET_OBJECTS:gpl_hookfile_${arg_REUSE}_${id}>)
+        continue()
+      endif()
+    endif()
+    add_library(gpl_hookfile_${name}_${id} OBJECT ${dir}/${file})
+    target_link_libraries(gpl_hookfile_${name}_${id} PRIVATE gpl::framework)
+    if(arg_COMPILE_OPTIONS)
+      target_compile_options(gpl_hookfile_${name}_${id} PRIVATE ${arg_COMPILE_OPTIONS})
+    endif()
+    list(APPEND objects $<TARGET_OBJECTS:gpl_hookfile_${name}_${id}>)
   endforeach()
-  add_library(gpl_hooks_${name} OBJECT ${sources})
-  target_link_libraries(gpl_hooks_${name} PUBLIC gpl::framework)
+  set(GPL_VARIANT_DIR_${name} ${dir} CACHE INTERNAL "hook directory of variant ${name}")
+  add_library(gpl_hooks_${name} INTERFACE)
+  target_sources(gpl_hooks_${name} INTERFACE ${objects})
+  target_link_libraries(gpl_hooks_${name} INTERFACE gpl::framework)
 
   add_executable(gpl-run-${name} $<TARGET_OBJECTS:gpl_run_main>)
   target_link_libraries(gpl-run-${name} PRIVATE gpl_hooks_${name} gpl::framework CLI11::CLI11)
