@@ -29,11 +29,12 @@ void PhysicsEngine::simulationTimestep() {
     // Ropes: every taut rope joins the contacts as one that pulls (worksheet 4).
     if (stageActive(Stage::Ropes)) addRopeContacts();
 
+    // Interpenetration: overlapping bodies move apart, shared by mass (worksheet 3); overlaps
+    // this creates join the contacts.
+    if (stageActive(Stage::Interpenetration)) resolveInterpenetrations();
+
     // Impulses: velocities at the contacts change so that the bodies separate (worksheet 4).
     if (stageActive(Stage::CollisionImpulses)) applyCollisionImpulses();
-
-    // Interpenetration: overlapping bodies move apart, shared by mass (worksheet 3).
-    if (stageActive(Stage::Interpenetration)) resolveInterpenetrations();
 
     // Constraints: move positions onto rods, chains and the container, and spheres apart (worksheet 2).
     if (stageActive(Stage::Constraints) || stageActive(Stage::ParticleCollisions)) projectConstraints();

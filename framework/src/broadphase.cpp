@@ -27,17 +27,18 @@ bool mayTouch(const Body& p, const Body& q, const Aabb& boxP, const Aabb& boxQ) 
 
 }  // namespace
 
-Aabb boundingBox(const Body& b) {
+Aabb boundingBox(const Body& b, double margin) {
     Vec3 half = Vec3::Zero();
     if (b.shape == Shape::Sphere) {
-        half = Vec3::Constant(b.radius);
+        half = Vec3::Constant((1.0 + margin) * b.radius);
     } else if (b.shape == Shape::Box) {
-        half = b.orientation.toRotationMatrix().cwiseAbs() * b.halfExtents;
+        half = b.orientation.toRotationMatrix().cwiseAbs() * b.halfExtents +
+               Vec3::Constant(margin * b.halfExtents.minCoeff());
     }
     return {b.position - half, b.position + half};
 }
 
-const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies) {
+const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin) {
     pairs_.clear();
     order_.clear();
     planes_.clear();
@@ -48,7 +49,7 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
             planes_.push_back(i);
             continue;
         }
-        boxes_[i] = boundingBox(bodies[i]);
+        boxes_[i] = boundingBox(bodies[i], margin);
         order_.push_back(i);
         sum += bodies[i].position;
         sumSquares += bodies[i].position.cwiseProduct(bodies[i].position);
@@ -81,7 +82,7 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
     return pairs_;
 }
 
-std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies) {
+std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies, double margin) {
     std::vector<BodyPair> pairs;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         for (std::size_t j = i + 1; j < bodies.size(); ++j) {
@@ -92,11 +93,11 @@ std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies) {
             if (planeP || planeQ) {
                 const Body& plane = planeP ? p : q;
                 const Body& other = planeP ? q : p;
-                if (!other.isStatic() && reachesPlane(boundingBox(other), plane.position, planeNormal(plane)))
+                if (!other.isStatic() && reachesPlane(boundingBox(other, margin), plane.position, planeNormal(plane)))
                     pairs.push_back({i, j});
                 continue;
             }
-            if (mayTouch(p, q, boundingBox(p), boundingBox(q))) pairs.push_back({i, j});
+            if (mayTouch(p, q, boundingBox(p, margin), boundingBox(q, margin))) pairs.push_back({i, j});
         }
     }
     return pairs;

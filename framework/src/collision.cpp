@@ -30,20 +30,37 @@ double normalVelocity(const Contact& contact, const Body& a, const Body& b) {
 }
 
 void PhysicsEngine::detectCollisions() {
-    for (const BodyPair& pair : broadPhase_.findPairs(bodies_)) {
-        if (std::optional<Contact> c = collide(bodies_, pair.a, pair.b)) contacts_.push_back(*c);
+    // The pairs near enough to touch soon: interpenetration looks among them for the overlaps
+    // that its own moves create.
+    const std::vector<BodyPair>& pairs = broadPhase_.findPairs(bodies_, kContactMargin);
+    nearPairs_.assign(pairs.begin(), pairs.end());
+    pairInContacts_.assign(nearPairs_.size(), 0);
+    for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
+        if (std::optional<Contact> c = collide(bodies_, nearPairs_[k].a, nearPairs_[k].b)) {
+            contacts_.push_back(*c);
+            pairInContacts_[k] = 1;
+        }
     }
     recordOpenKernels();
 }
 
-void PhysicsEngine::addRopeContacts() {
-    for (const Rope& rope : ropes_) {
-        std::optional<Contact> c = ropeContact(bodies_[rope.a], bodies_[rope.b], rope.length);
-        if (!c) continue;
+std::optional<Contact> PhysicsEngine::ropeContactOf(const Rope& rope) const {
+    std::optional<Contact> c = ropeContact(bodies_[rope.a], bodies_[rope.b], rope.length);
+    if (c) {
         c->a = rope.a;
         c->b = rope.b;
         c->restitution = 0.0;  // a rope stops the stretch; it does not bounce back
-        contacts_.push_back(*c);
+    }
+    return c;
+}
+
+void PhysicsEngine::addRopeContacts() {
+    ropeInContacts_.assign(ropes_.size(), 0);
+    for (std::size_t k = 0; k < ropes_.size(); ++k) {
+        if (std::optional<Contact> c = ropeContactOf(ropes_[k])) {
+            contacts_.push_back(*c);
+            ropeInContacts_[k] = 1;
+        }
     }
     recordOpenKernels();
 }

@@ -46,11 +46,13 @@ void PhysicsEngine::remove(std::size_t index) {
     dropAndRenumber(distances_);
     dropAndRenumber(ropes_);
     contacts_.clear();
+    nearPairs_.clear();
 }
 
 void PhysicsEngine::restore(const State& s) {
     bodies_ = s.bodies;
     contacts_.clear();
+    nearPairs_.clear();
     time_ = s.time;
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
@@ -62,6 +64,7 @@ void PhysicsEngine::clear() {
     distances_.clear();
     ropes_.clear();
     contacts_.clear();
+    nearPairs_.clear();
     container_.reset();
     previousPositions_.clear();
     time_ = 0.0;
@@ -202,6 +205,7 @@ void PhysicsEngine::setStageEnabled(Stage stage, bool on) {
 
 void PhysicsEngine::step() {
     contacts_.clear();
+    nearPairs_.clear();
     simulationTimestep();
     time_ += timeStep_;
     ++steps_;

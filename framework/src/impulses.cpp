@@ -1,6 +1,8 @@
 // Collision impulses in the engine: sequential sweeps of applyCollisionImpulse() over the step's
-// contacts until no contact approaches or the sweeps run out. Contacts come in the order of their
-// bodies, so a row of touching balls (Newton's cradle) passes an impulse along in one sweep.
+// contacts until no contact approaches or the sweeps run out. Detected contacts come in the order
+// of their bodies and the ones interpenetration found after them in the order it found them, so
+// the ball that swings into a row of touching balls (Newton's cradle) comes first and its
+// impulse passes down the row in one sweep.
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"

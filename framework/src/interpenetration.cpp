@@ -1,5 +1,10 @@
-// Interpenetration in the engine: Gauss-Seidel sweeps of resolveInterpenetration() over the
-// step's contacts until nothing overlaps or the sweeps run out.
+// Interpenetration in the engine: Gauss-Seidel sweeps that find the overlaps among the step's
+// near pairs and taut ropes and move each apart with resolveInterpenetration(), until nothing
+// overlaps or the sweeps run out. Moving one pair apart can push a body into a third, so every
+// sweep looks again (as projectConstraints() does for worksheet 2), and an overlap found that way
+// joins contacts(): the impulses that follow answer every contact of the step, the ones the
+// sweeps found included (in a resting stack, all of them).
+#include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"
 
@@ -8,18 +13,24 @@ namespace gpl {
 void PhysicsEngine::resolveInterpenetrations() {
     start_.clear();
     for (const Body& b : bodies_) start_.push_back(b.position);
+    const bool ropes = stageActive(Stage::Ropes);
+    pairInContacts_.resize(nearPairs_.size(), 0);
+    ropeInContacts_.resize(ropes_.size(), 0);
+    // Moves the bodies of an overlap apart; a contact not among contacts() yet joins them.
+    const auto separate = [this](const std::optional<Contact>& c, char& inContacts) {
+        if (!c) return false;
+        resolveInterpenetration(*c, bodies_[c->a], bodies_[c->b]);
+        if (!inContacts) contacts_.push_back(*c);
+        inContacts = 1;
+        return true;
+    };
     for (int sweep = 0; sweep < contactIterations_; ++sweep) {
         bool overlapping = false;
-        for (const Contact& c : contacts_) {
-            Body& a = bodies_[c.a];
-            Body& b = bodies_[c.b];
-            // The depth now: what the contact had, less what earlier moves in this stage took away
-            // along its normal (exact for translations, which are all this stage makes).
-            Contact now = c;
-            now.depth -= ((b.position - start_[c.b]) - (a.position - start_[c.a])).dot(c.normal);
-            if (now.depth <= 0.0) continue;
-            overlapping = true;
-            resolveInterpenetration(now, a, b);
+        for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
+            overlapping |= separate(collide(bodies_, nearPairs_[k].a, nearPairs_[k].b), pairInContacts_[k]);
+        }
+        for (std::size_t k = 0; ropes && k < ropes_.size(); ++k) {
+            overlapping |= separate(ropeContactOf(ropes_[k]), ropeInContacts_[k]);
         }
         if (!overlapping) break;
     }

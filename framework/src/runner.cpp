@@ -46,6 +46,8 @@ RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
         for (std::size_t i = 0; i < steps; ++i) {
             engine.step();
             ++s.steps;
+            s.maxContacts = std::max(s.maxContacts, engine.contacts().size());
+            for (const Contact& c : engine.contacts()) s.deepestContact = std::max(s.deepestContact, c.depth);
             const double energy = engine.totalEnergy();
             s.maxEnergyIncrease = std::max(s.maxEnergyIncrease, energy - previous);
             previous = energy;
@@ -78,6 +80,10 @@ std::string describe(const RunSummary& s, const PhysicsEngine& e) {
         out << "largest energy increase in one step: " << s.maxEnergyIncrease << " J\n";
     }
     out << "largest speed at the end: " << s.maxSpeed << " m/s\n";
+    if (e.requiredStages().contains(Stage::CollisionDetection) || e.requiredStages().contains(Stage::Ropes)) {
+        out << "contacts: at most " << s.maxContacts << " in one step, deepest " << s.deepestContact
+            << " m (found before resolution)\n";
+    }
     if (!e.missingHooks().empty()) {
         out << "hooks not implemented yet:";
         for (const auto& h : e.missingHooks()) out << ' ' << h;

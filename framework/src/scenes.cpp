@@ -65,6 +65,9 @@ void load(PhysicsEngine& engine, const Scene& scene) {
     engine.setTimeStep(scene.timeStep);
     engine.setRequiredStages(scene.stages);
     engine.setIntegratorKind(scene.integrator);
+    const PhysicsEngine defaults;
+    engine.setConstraintIterations(defaults.constraintIterations());
+    engine.setContactIterations(defaults.contactIterations());
     if (scene.build) scene.build(engine);
 }
 

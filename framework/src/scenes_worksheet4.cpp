@@ -27,8 +27,8 @@ void bouncingBalls(PhysicsEngine& e) {
 
 // A billiard table (2.54 m by 1.27 m of cloth, cushions as four planes) and a break: the cue ball
 // at 8 m/s into a triangle of fifteen. The cloth has restitution 0 (the balls roll on it without
-// hopping), the cushions 1; the balls 0.95 with each other and with the cushions. No friction yet
-// (worksheet 7), so the balls slide on for ever.
+// hopping), the cushions 1, the balls 0.95: a pair of balls 0.9025 by the product rule, a ball and
+// a cushion 0.95. No friction yet (worksheet 7), so the balls slide on for ever.
 void billiards(PhysicsEngine& e) {
     const double r = 0.028575, m = 0.17;  // m, kg: pool balls
     const double halfLength = 1.27, halfWidth = 0.635;

@@ -5,6 +5,10 @@
 // whose intervals overlap there. Static planes are infinite: each pairs with every movable body
 // whose box reaches the plane. Two static bodies never pair. The result is exactly the pairs whose
 // bounding volumes overlap (bruteForcePairs() tests every pair the same way), in the same order.
+//
+// A margin grows every box by a fraction of its body's size (the radius, or a box's smallest half
+// extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
+// new overlaps among them while they move bodies apart.
 #pragma once
 
 #include <cstddef>
@@ -27,13 +31,15 @@ struct Aabb {
     Vec3 min = Vec3::Zero();
     Vec3 max = Vec3::Zero();
 };
-Aabb boundingBox(const Body& body);
+/// The box grown on every side by `margin` times the body's size (radius or smallest half extent).
+Aabb boundingBox(const Body& body, double margin = 0.0);
 
 class BroadPhase {
 public:
-    /// Pairs whose bounding volumes overlap (touching counts), sorted by (a, b). The buffers are
-    /// kept between calls, so a step allocates nothing once the scene has settled.
-    const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies);
+    /// Pairs whose bounding volumes, grown by `margin` times each body's size, overlap (touching
+    /// counts), sorted by (a, b). The buffers are kept between calls, so a step allocates nothing
+    /// once the scene has settled.
+    const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0);
 
 private:
     std::vector<Aabb> boxes_;
@@ -43,6 +49,6 @@ private:
 };
 
 /// The same pairs by testing every pair of bodies: O(N^2), for tests and as the definition.
-std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies);
+std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies, double margin = 0.0);
 
 }  // namespace gpl

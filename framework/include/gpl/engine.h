@@ -34,6 +34,9 @@ namespace gpl {
 
 /// Default time step of the engine (s): 100 steps per simulated second. A scene may override it.
 constexpr double kDefaultTimeStep = 0.01;
+/// Margin of the contact stages' broad phase, as a fraction of each body's size: pairs this near
+/// are watched for overlaps while interpenetration moves bodies apart.
+constexpr double kContactMargin = 0.1;
 /// Standard gravity (m/s^2), pointing down the y axis.
 inline Vec3 standardGravity() { return Vec3(0.0, -9.81, 0.0); }
 
@@ -95,7 +98,8 @@ public:
     std::size_t addRope(const std::string& a, const std::string& b);
     std::size_t addRope(const std::string& a, const std::string& b, double length);
     const std::vector<Rope>& ropes() const { return ropes_; }
-    /// The contacts of the last step: found by detectCollisions() and addRopeContacts().
+    /// The contacts of the last step: found by detectCollisions() and addRopeContacts(), and those
+    /// that resolveInterpenetrations() created and resolved.
     const std::vector<Contact>& contacts() const { return contacts_; }
     /// Sweeps over the contacts per step, for impulses and for interpenetration alike (>= 1; throws
     /// std::invalid_argument otherwise). A sweep that finds nothing to do ends the stage early.
@@ -160,8 +164,10 @@ public:
     void addRopeContacts();
     /// Sweeps applyCollisionImpulse() over contacts() until none approaches (impulses.cpp).
     void applyCollisionImpulses();
-    /// Sweeps resolveInterpenetration() over contacts() until none overlaps; without the impulse
-    /// stage the velocities follow the displacements, as in projectConstraints() (interpenetration.cpp).
+    /// Sweeps over the near pairs of detectCollisions() and the taut ropes, moving every overlap it
+    /// finds apart with resolveInterpenetration(), until none overlaps; overlaps its moves create
+    /// join contacts(). Without the impulse stage the velocities follow the displacements, as in
+    /// projectConstraints() (interpenetration.cpp).
     void resolveInterpenetrations();
 
     // ---- Hooks not implemented yet ------------------------------------------------------------
@@ -194,7 +200,10 @@ private:
     int constraintIterations_ = 4;
     std::vector<Vec3> previousPositions_;  ///< position Verlet's x_{n-1} per body (m); empty: not started
     std::vector<Rope> ropes_;
-    std::vector<Contact> contacts_;  ///< this step's, emptied when a step begins
+    std::vector<Contact> contacts_;     ///< this step's, emptied when a step begins
+    std::vector<BodyPair> nearPairs_;  ///< this step's broad-phase pairs with kContactMargin, likewise
+    std::vector<char> pairInContacts_;  ///< per near pair: its contact is in contacts_ (0 or 1)
+    std::vector<char> ropeInContacts_;  ///< per rope: its contact is in contacts_ (0 or 1)
     int contactIterations_ = 10;
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
@@ -202,6 +211,8 @@ private:
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().
     void recordOpenKernels();
+    /// The rope's contact from ropeContact(), with the framework's fields set; none while slack.
+    std::optional<Contact> ropeContactOf(const Rope& rope) const;
 };
 
 }  // namespace gpl

@@ -17,6 +17,8 @@ struct RunSummary {
     double finalEnergy = 0.0;        ///< J
     double maxEnergyIncrease = 0.0;  ///< largest increase of the total energy over one step (J), 0 if none
     double maxSpeed = 0.0;           ///< largest speed of any body at the end (m/s)
+    std::size_t maxContacts = 0;     ///< most contacts found in one step
+    double deepestContact = 0.0;     ///< largest depth of any contact found, before resolution (m)
     std::string error;               ///< empty, or why the run stopped early (a non-finite state)
 };
 

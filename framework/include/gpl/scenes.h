@@ -41,8 +41,8 @@ private:
 /// Every scene: the course's and the student's (F11/F12).
 const SceneRegistry& scenes();
 
-/// Empties the engine and loads the scene: settings to defaults, the scene's stages, time step
-/// and integrator, then its bodies.
+/// Empties the engine and loads the scene: settings to defaults (gravity, iterations of the
+/// constraint and contact sweeps), the scene's stages, time step and integrator, then its bodies.
 void load(PhysicsEngine& engine, const Scene& scene);
 
 // Registration functions, one per group of scenes (called by scenes()).

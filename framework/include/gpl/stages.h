@@ -15,8 +15,8 @@ enum class Stage {
     Integration,           ///< advance velocities and positions by one time step (worksheets 1, 2)
     CollisionDetection,    ///< find the contacts: broad phase, then sphereSphere(), spherePlane() (worksheet 3)
     Ropes,                 ///< taut ropes become contacts that pull, ropeContact() (worksheet 4)
-    CollisionImpulses,     ///< change velocities at the contacts, applyCollisionImpulse() (worksheet 4)
     Interpenetration,      ///< move overlapping bodies apart, resolveInterpenetration() (worksheet 3)
+    CollisionImpulses,     ///< change velocities at the contacts, applyCollisionImpulse() (worksheet 4)
     Constraints,           ///< move positions to satisfy rods, chains and the container (worksheet 2)
     ParticleCollisions,    ///< push overlapping spheres apart by moving positions (worksheet 2)
     Count

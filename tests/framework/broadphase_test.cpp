@@ -1,0 +1,93 @@
+// The broad phase against its definition: the same pairs as testing every pair, on random scenes.
+#include "gpl/broadphase.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <string>
+
+namespace gpl {
+namespace {
+
+// A random scene from a fixed seed: spheres and boxes of mixed sizes (some rotated, some static)
+// packed densely enough that many pairs overlap, and planes of random tilt and offset.
+std::vector<Body> randomScene(unsigned seed, int finite, int planes, double extent) {
+    std::mt19937 random(seed);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    const auto point = [&]() -> Vec3 { return Vec3(unit(random), unit(random), unit(random)) * extent; };
+    std::vector<Body> bodies;
+    for (int i = 0; i < finite; ++i) {
+        const std::string name = "body" + std::to_string(i);
+        Body b = unit(random) < 0.6 ? sphere(name, 0.1 + 0.9 * unit(random), 1.0)
+                                    : box(name, Vec3(0.1, 0.1, 0.1) + 0.8 * point() / extent, 1.0);
+        b.at(point()).rotated(Quat(Eigen::AngleAxisd(6.3 * unit(random), point().normalized())));
+        if (unit(random) < 0.15) b.makeStatic();
+        bodies.push_back(b);
+    }
+    for (int i = 0; i < planes; ++i) {
+        const Vec3 n = point() - Vec3::Constant(extent / 2.0);
+        bodies.push_back(plane("plane" + std::to_string(i), n).at(point()));
+    }
+    std::shuffle(bodies.begin(), bodies.end(), random);  // planes and statics anywhere in the list
+    return bodies;
+}
+
+TEST(BroadPhase, SamePairsAsTestingEveryPair) {
+    BroadPhase broadPhase;
+    std::size_t pairsSeen = 0;
+    for (unsigned seed = 1; seed <= 40; ++seed) {
+        const std::vector<Body> bodies = randomScene(seed, 10 + 7 * seed, seed % 4, 4.0 + seed / 4.0);
+        const double margin = (seed % 3) * 0.1;  // none, and margins as the contact stages use them
+        const std::vector<BodyPair>& found = broadPhase.findPairs(bodies, margin);  // buffers reused
+        const std::vector<BodyPair> expected = bruteForcePairs(bodies, margin);
+        ASSERT_EQ(found, expected) << "seed " << seed;
+        pairsSeen += expected.size();
+    }
+    EXPECT_GT(pairsSeen, 1000u);  // the scenes are dense enough to test something
+}
+
+TEST(BroadPhase, StaticBodiesNeverPairWithEachOther) {
+    std::vector<Body> bodies = {plane("floor", Vec3::UnitY()), box("shelf", {1, 1, 1}, 1.0).makeStatic(),
+                                sphere("pillar", 1.0, 1.0).makeStatic(), sphere("ball", 0.5, 1.0).at({0, 0.4, 0})};
+    BroadPhase broadPhase;
+    const std::vector<BodyPair> expected = {{0, 3}, {1, 3}, {2, 3}};
+    EXPECT_EQ(broadPhase.findPairs(bodies), expected);
+}
+
+TEST(BroadPhase, PlanesAreInfinite) {
+    // A ball far away along the plane, just reaching it, pairs with it; one just above does not.
+    std::vector<Body> bodies = {plane("tilted", Vec3(1, 1, 0)).at({0, -5, 0}),
+                                sphere("far", 0.5, 1.0).at(Vec3(1e6, -1e6 - 5.0, 0.0) + Vec3(1, 1, 0).normalized() * 0.4),
+                                sphere("above", 0.5, 1.0).at(Vec3(1e6, -1e6 - 5.0, 0.0) + Vec3(1, 1, 0) * 10.0)};
+    BroadPhase broadPhase;
+    const std::vector<BodyPair> expected = {{0, 1}};
+    EXPECT_EQ(broadPhase.findPairs(bodies), expected);
+}
+
+TEST(BroadPhase, TouchingBoxesPairAndSeparatedOnesDoNot) {
+    std::vector<Body> bodies = {sphere("a", 0.5, 1.0).at({0, 0, 0}), sphere("b", 0.5, 1.0).at({1.0, 0, 0}),
+                                sphere("c", 0.5, 1.0).at({2.0 + 1e-9, 0, 0})};
+    BroadPhase broadPhase;
+    const std::vector<BodyPair> expected = {{0, 1}};
+    EXPECT_EQ(broadPhase.findPairs(bodies), expected);
+}
+
+TEST(BroadPhase, MarginFindsBodiesAboutToTouch) {
+    // Spheres of radius 0.5 m, 1.05 m apart (a gap of 5 cm): a margin of a tenth of the radius on
+    // each grows the gap's two sides by 5 cm each, so they pair; a margin of 0.04 does not reach.
+    std::vector<Body> bodies = {sphere("a", 0.5, 1.0).at({0, 0, 0}), sphere("b", 0.5, 1.0).at({1.05, 0, 0}),
+                                plane("floor", Vec3::UnitY()).at({0, -0.54, 0})};
+    BroadPhase broadPhase;
+    const std::vector<BodyPair> near = {{0, 1}, {0, 2}, {1, 2}};
+    EXPECT_EQ(broadPhase.findPairs(bodies, 0.1), near);
+    EXPECT_TRUE(broadPhase.findPairs(bodies, 0.04).empty());
+}
+
+TEST(BroadPhase, EmptyAndSingleScenes) {
+    BroadPhase broadPhase;
+    EXPECT_TRUE(broadPhase.findPairs({}).empty());
+    EXPECT_TRUE(broadPhase.findPairs({sphere("alone", 1.0, 1.0)}).empty());
+}
+
+}  // namespace
+}  // namespace gpl

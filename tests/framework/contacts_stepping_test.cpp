@@ -1,0 +1,170 @@
+// The contact stages stepped with the reference hooks (solutions/): an instructor's tree only.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "gpl/engine.h"
+#include "gpl/scenes.h"
+
+namespace gpl {
+namespace {
+
+const StageSet kPositional{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                           Stage::Interpenetration};
+const StageSet kImpulses{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                         Stage::CollisionImpulses, Stage::Interpenetration};
+
+// Largest overlap of any pair of bodies in the engine's current state (m): spheres with spheres
+// and with planes.
+double largestOverlap(const PhysicsEngine& e) {
+    double worst = 0.0;
+    const auto& bodies = e.bodies();
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        for (std::size_t j = i + 1; j < bodies.size(); ++j) {
+            const Body& p = bodies[i];
+            const Body& q = bodies[j];
+            if (p.shape == Shape::Sphere && q.shape == Shape::Sphere) {
+                worst = std::max(worst, p.radius + q.radius - (p.position - q.position).norm());
+            } else if (p.shape == Shape::Plane || q.shape == Shape::Plane) {
+                const Body& plane = p.shape == Shape::Plane ? p : q;
+                const Body& ball = p.shape == Shape::Plane ? q : p;
+                if (ball.shape != Shape::Sphere) continue;
+                const Vec3 n = plane.orientation * plane.normal;
+                worst = std::max(worst, ball.radius - n.dot(ball.position - plane.position));
+            }
+        }
+    }
+    return worst;
+}
+
+TEST(Contacts, DetectionFillsTheFrameworkFields) {
+    PhysicsEngine e;
+    e.setRequiredStages({Stage::CollisionDetection});
+    e.add(sphere("ball", 0.5, 1.0).at({0, 0.4, 0}).bouncy(0.6));
+    e.add(plane("floor", Vec3::UnitY()));  // listed after the ball: the sphere still comes first
+    e.add(sphere("other", 0.5, 1.0).at({0.9, 0.45, 0}).bouncy(0.5));
+    e.step();
+    ASSERT_EQ(e.contacts().size(), 3u);
+    for (const Contact& c : e.contacts()) {
+        EXPECT_NEAR(c.normal.norm(), 1.0, 1e-15);
+        EXPECT_GT(c.depth, 0.0);
+        EXPECT_EQ(c.pointCount, 1);
+        EXPECT_NE(e.bodies()[c.a].shape, Shape::Plane) << "a sphere comes first against a plane";
+        EXPECT_DOUBLE_EQ(c.restitution,
+                         combineRestitution(e.bodies()[c.a].restitution, e.bodies()[c.b].restitution));
+    }
+    // Pairs in body order: ball-floor, ball-other, floor-other (as other-floor).
+    EXPECT_EQ(e.contacts()[0].b, 1u);
+    EXPECT_EQ(e.contacts()[1].b, 2u);
+    EXPECT_EQ(e.contacts()[2].a, 2u);
+    EXPECT_TRUE(e.contacts()[2].normal.isApprox(-Vec3::UnitY()));
+}
+
+TEST(Contacts, PositionalLandingComesToRestOnTheFloor) {
+    // Without impulses the velocity follows the correction: the ball lands plastically and then
+    // rests exactly on the floor (each step it sinks by g h^2 and is put back with its velocity).
+    PhysicsEngine e;
+    e.setRequiredStages(kPositional);
+    e.add(plane("floor", Vec3::UnitY()));
+    e.add(sphere("ball", 0.5, 1.0).at({0, 3, 0}).bouncy(1.0));
+    for (int i = 0; i < 300; ++i) e.step();
+    const Body& ball = e.body("ball");
+    EXPECT_NEAR(ball.position.y(), 0.5, 1e-12);  // rounding of positions of order 1 m
+    EXPECT_LT(ball.velocity.norm(), 1e-9);        // g h = 0.1 m/s cancelled to rounding
+}
+
+TEST(Contacts, ImpulsesBounceWithTheCombinedRestitution) {
+    // Dropped from 2 m onto a floor (restitution 1): the first rebound reaches e^2 of the drop
+    // height. The discrete step blurs the moment of impact by up to one step: h v / H ~ 3 %.
+    PhysicsEngine e;
+    e.setRequiredStages(kImpulses);
+    e.setTimeStep(0.001);
+    e.add(plane("floor", Vec3::UnitY()));
+    e.add(sphere("ball", 0.5, 1.0).at({0, 2.5, 0}).bouncy(0.7));
+    double apex = 0.0;
+    bool bounced = false;
+    for (int i = 0; i < 2000; ++i) {
+        e.step();
+        const Body& ball = e.body("ball");
+        bounced = bounced || ball.velocity.y() > 0.0;
+        if (bounced) apex = std::max(apex, ball.position.y() - 0.5);
+        if (bounced && ball.velocity.y() < 0.0) break;
+    }
+    EXPECT_NEAR(apex / 2.0, 0.49, 0.49 * 0.03);
+}
+
+TEST(Contacts, MoreIterationsLeaveLessOverlapInAStack) {
+    // A column of eight spheres resting on a floor, solved by positions: every step each sphere
+    // sinks by g h^2 = 1 mm and the sweeps lift the column back; more sweeps leave less overlap.
+    double previous = 1e300;
+    for (int iterations : {1, 4, 32}) {
+        PhysicsEngine e;
+        e.setRequiredStages(kPositional);
+        e.setContactIterations(iterations);
+        e.add(plane("floor", Vec3::UnitY()));
+        for (int i = 0; i < 8; ++i) e.add(sphere("s" + std::to_string(i), 0.5, 1.0).at({0, 0.5 + 1.0 * i, 0}));
+        for (int i = 0; i < 200; ++i) e.step();
+        const double overlap = largestOverlap(e);
+        EXPECT_LT(overlap, previous) << iterations << " iterations";
+        previous = overlap;
+    }
+    EXPECT_LT(previous, 1e-3 * 0.5);  // 32 sweeps for 8 spheres: a thousandth of the radius at most
+}
+
+TEST(Contacts, RopeHoldsAPendulumAtItsLength) {
+    // A ball on a 2 m rope released sideways: the rope never stretches beyond its length by more
+    // than one step's outward drift (v h)^2 / (2 L) once resolved, and the ball swings below the anchor.
+    PhysicsEngine e;
+    e.setRequiredStages({Stage::ConstantAcceleration, Stage::Integration, Stage::Ropes, Stage::CollisionImpulses,
+                         Stage::Interpenetration});
+    e.add(sphere("anchor", 0.05, 1.0).at({0, 5, 0}).makeStatic());
+    e.add(sphere("bob", 0.2, 1.0).at({2, 5, 0}));
+    e.addRope("anchor", "bob", 2.0);
+    double lowest = 5.0;
+    for (int i = 0; i < 300; ++i) {
+        e.step();
+        EXPECT_LE((e.body("bob").position - e.body("anchor").position).norm(), 2.0 + 1e-12);
+        lowest = std::min(lowest, e.body("bob").position.y());
+    }
+    EXPECT_NEAR(lowest, 3.0, 0.01);  // the bottom of the swing, 2 m below the anchor (to 0.5 %)
+}
+
+TEST(Contacts, NewtonsCradlePassesTheImpulseAlong) {
+    // The first ball hits the row; the last one swings out with (nearly) all of its speed while the
+    // first stops: momentum and energy go through the three in the middle.
+    PhysicsEngine e;
+    load(e, scenes().find("newtons-cradle"));
+    double fastestLast = 0.0, firstThen = 0.0;
+    for (int i = 0; i < 600; ++i) {
+        e.step();
+        const double last = e.body("ball5").velocity.norm();
+        if (last > fastestLast) {
+            fastestLast = last;
+            firstThen = e.body("ball1").velocity.norm();
+        }
+    }
+    // Released from 40 degrees on 2 m: v = sqrt(2 g L (1 - cos 40 deg)) = 3.03 m/s at the bottom.
+    const double v = std::sqrt(2.0 * 9.81 * 2.0 * (1.0 - std::cos(40.0 * M_PI / 180.0)));
+    EXPECT_GT(fastestLast, 0.9 * v);
+    EXPECT_LT(firstThen, 0.1 * v);
+}
+
+TEST(Contacts, EveryContactSceneStaysFiniteAndSeparated) {
+    for (const Scene& s : scenes().all()) {
+        if (s.worksheet != 3 && s.worksheet != 4) continue;
+        PhysicsEngine e;
+        load(e, s);
+        const int steps = s.name == "heap" ? 300 : static_cast<int>(2.0 / s.timeStep);
+        for (int i = 0; i < steps; ++i) ASSERT_NO_THROW(e.step()) << s.name;
+        // After resolution nothing overlaps by more than a hundredth of the smallest radius.
+        double smallest = 1e300;
+        for (const Body& b : e.bodies()) {
+            if (b.shape == Shape::Sphere && !b.isStatic()) smallest = std::min(smallest, b.radius);
+        }
+        EXPECT_LT(largestOverlap(e), 0.01 * smallest) << s.name;
+    }
+}
+
+}  // namespace
+}  // namespace gpl
