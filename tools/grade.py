@@ -176,7 +176,7 @@ def hook_names():
             text = path.read_text(errors="replace")
             for function in re.findall(r"PhysicsEngine::(\w+)\(", text):
                 names[function] = function + "()"
-            for hook in re.findall(r'notImplemented\("([^"]+)"\)', text):
+            for hook in re.findall(r'[nN]otImplemented\("([^"]+)"\)', text):
                 names[hook.split("(")[0].split("::")[-1]] = hook
     return names
 
