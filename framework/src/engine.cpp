@@ -283,8 +283,8 @@ void PhysicsEngine::projectConstraints() {
     for (const Body& b : bodies_) start_.push_back(b.position);
     for (int sweep = 0; sweep < constraintIterations_; ++sweep) {
         if (collisions) {
-            // Pairs anew every sweep: the sweeps before may have pushed spheres into new neighbours.
-            for (const BodyPair& pair : broadPhase_.findPairs(bodies_)) {
+            // Pairs anew every sweep, with a margin: this sweep's pushes may reach new neighbours.
+            for (const BodyPair& pair : broadPhase_.findPairs(bodies_, kContactMargin)) {
                 Body& a = bodies_[pair.a];
                 Body& b = bodies_[pair.b];
                 if (a.shape != Shape::Sphere || b.shape != Shape::Sphere) continue;
