@@ -101,8 +101,9 @@ public:
     /// The contacts of the last step: found by detectCollisions() and addRopeContacts(), and those
     /// that resolveInterpenetrations() created and resolved.
     const std::vector<Contact>& contacts() const { return contacts_; }
-    /// Sweeps over the contacts per step, for impulses and for interpenetration alike (>= 1; throws
-    /// std::invalid_argument otherwise). A sweep that finds nothing to do ends the stage early.
+    /// Sweeps per step of each contact stage (>= 1; throws std::invalid_argument otherwise): the
+    /// impulses' over contacts(), interpenetration's over the near pairs and ropes. A sweep that
+    /// finds nothing to do ends the stage early.
     int contactIterations() const { return contactIterations_; }
     void setContactIterations(int iterations);
 
