@@ -160,6 +160,9 @@ void Session::addBox(const Vec3& at) {
 bool Session::removeSelected() {
     if (!selected_) return false;
     engine_.remove(*selected_);
+    // The states before hold the body, while the springs, rods and ropes left are numbered without
+    // it: stepping back into them would tie the wrong bodies together.
+    history_.clear();
     selected_.reset();
     drag_.reset();
     edited_ = true;

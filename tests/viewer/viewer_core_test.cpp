@@ -246,6 +246,22 @@ TEST_F(SessionTest, GhostStepsTheReferenceInLockStep) {
     EXPECT_TRUE(session.ghostOn());
 }
 
+TEST(SessionEdits, RemovingABodyForgetsTheHistoryBeforeIt) {
+    // Newton's cradle: the ropes after a removed ball are numbered anew; a step back into a state
+    // that still holds the ball would tie ropes to the wrong bodies.
+    Session s{scenes().find("newtons-cradle")};
+    for (int i = 0; i < 5; ++i) s.stepOnce();
+    s.select(s.engine().bodies().size() / 2);
+    ASSERT_TRUE(s.removeSelected());
+    EXPECT_FALSE(s.stepBack()) << "nothing to step back into";
+    s.stepOnce();
+    ASSERT_TRUE(s.stepBack());
+    for (const Rope& r : s.engine().ropes()) {
+        EXPECT_TRUE(s.engine().bodies()[r.a].isStatic()) << "each rope hangs from an anchor";
+        EXPECT_FALSE(s.engine().bodies()[r.b].isStatic());
+    }
+}
+
 TEST(EnergySeries, KeepsTheLastSamples) {
     EnergySeries s;
     for (std::size_t i = 0; i < EnergySeries::kCapacity + 10; ++i) s.push(double(i), 1.0);
