@@ -121,7 +121,7 @@ void App::drawPanel() {
                 continue;
             }
             bool on = e.stageEnabled(stage);
-            if (ImGui::Checkbox(stageName(stage), &on)) e.setStageEnabled(stage, on);
+            if (ImGui::Checkbox(stageName(stage), &on)) session_.setStageEnabled(stage, on);
         }
         if (!e.missingHooks().empty()) {
             ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "hooks not implemented yet:");

@@ -65,6 +65,14 @@ public:
 
     // ---- Interaction ---------------------------------------------------------------------------
     void setIntegrator(Integrator kind);
+    /// Switches a stage the scene requires on or off (the panel's stage list).
+    void setStageEnabled(Stage stage, bool on);
+    /// Sweeps over the contacts per step, clamped to 1 .. kMaxContactIterations.
+    void setContactIterations(int n);
+    static constexpr int kMaxContactIterations = 100;
+    /// Sets a body's coefficient of restitution, clamped to 0 .. 1; it acts from the next step on.
+    /// Like every edit, a step back to a state before it undoes it.
+    void setRestitution(std::size_t index, double e);
     void toggleGravity();
     bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
     void select(std::optional<std::size_t> index) { selected_ = index; }
@@ -82,8 +90,9 @@ public:
     void shoot(const Ray& from, double speed);  ///< a 1 kg sphere from the camera (m/s)
     void addBox(const Vec3& at);                ///< a 1 m box dropped at a point
     bool removeSelected();
-    /// Edits (add, remove, drag, step back, settings changed after the start) stop the reference
-    /// ghost; a reset starts it again.
+    /// Edits (add, remove, drag, step back, settings or restitution changed after the start) stop
+    /// the reference ghost; a reset starts it again. Before the first step the ghost starts over
+    /// with the changed settings instead.
     bool edited() const { return edited_; }
 
     // ---- Diagnostics ---------------------------------------------------------------------------

@@ -262,6 +262,50 @@ TEST(SessionEdits, RemovingABodyForgetsTheHistoryBeforeIt) {
     }
 }
 
+TEST(SessionContacts, StagesIterationsAndRestitutionGoThroughTheSessionAndTheGhost) {
+    Session s{scenes().find("bouncing-balls")};
+    ASSERT_TRUE(s.ghostAvailable());
+    s.setGhost(true);
+    // Before the first step the ghost starts over with every change, so it still agrees.
+    s.setContactIterations(3);
+    EXPECT_EQ(s.engine().contactIterations(), 3);
+    s.setContactIterations(0);
+    EXPECT_EQ(s.engine().contactIterations(), 1) << "clamped";
+    s.setContactIterations(1000);
+    EXPECT_EQ(s.engine().contactIterations(), Session::kMaxContactIterations);
+    const std::size_t ball = 5;  // e=0.9
+    s.setRestitution(ball, 0.0);
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 0.0);
+    s.setRestitution(ball, 1.7);
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 1.0) << "clamped";
+    s.setRestitution(ball, 0.2);
+    s.setStageEnabled(Stage::Interpenetration, false);
+    EXPECT_FALSE(s.engine().stageActive(Stage::Interpenetration));
+    for (int i = 0; i < 150; ++i) s.stepOnce();
+    EXPECT_TRUE(s.ghostOn());
+    EXPECT_EQ(s.ghostDifference(), 0.0) << "the reference took the same settings";
+    EXPECT_FALSE(s.engine().contacts().empty()) << "balls resting on the floor";
+    // After the start an edit stops the comparison, as other edits do.
+    s.setRestitution(ball, 0.9);
+    EXPECT_FALSE(s.ghostOn());
+    // A step back to a state before the edit undoes it, as it does every edit.
+    s.stepOnce();
+    ASSERT_TRUE(s.stepBack());
+    ASSERT_TRUE(s.stepBack());
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 0.2);
+    s.setStageEnabled(Stage::Interpenetration, true);
+    s.reset();
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 0.9) << "a reset loads the scene's own";
+}
+
+TEST(SessionContacts, ARestitutionOfZeroStopsTheBounce) {
+    Session bouncy{scenes().find("bouncing-balls")}, plastic{scenes().find("bouncing-balls")};
+    plastic.setRestitution(5, 0.0);
+    for (int i = 0; i < 150; ++i) bouncy.stepOnce(), plastic.stepOnce();  // 1.5 s: after the first bounce
+    EXPECT_GT(bouncy.engine().bodies()[5].position.y(), 1.0);
+    EXPECT_LT(plastic.engine().bodies()[5].position.y(), 0.31);
+}
+
 TEST(EnergySeries, KeepsTheLastSamples) {
     EnergySeries s;
     for (std::size_t i = 0; i < EnergySeries::kCapacity + 10; ++i) s.push(double(i), 1.0);
