@@ -19,6 +19,7 @@ Session::Session(const Scene& scene) : scene_(&scene), reference_(gplref::makeRe
 void Session::load(const Scene& scene) {
     scene_ = &scene;
     gpl::load(engine_, scene);
+    bounds_ = sceneBounds(engine_.bodies());
     tick_ = scene.timeStep;
     engine_.setTimeStep(tick_ / substeps_);
     history_.clear();

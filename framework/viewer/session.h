@@ -16,6 +16,7 @@
 #include "history.h"
 #include "picking.h"
 #include "reference.h"
+#include "scene_shapes.h"
 
 namespace gpl::viewer {
 
@@ -40,6 +41,9 @@ public:
     void load(const Scene& scene);
     void reset() { load(*scene_); }
     const Scene& scene() const { return *scene_; }
+    /// The space the scene fills when it starts (sceneBounds()): walls are drawn within it, so
+    /// they stay put while bodies move, are shot or are added.
+    const Bounds& bounds() const { return bounds_; }
     PhysicsEngine& engine() { return engine_; }
     const PhysicsEngine& engine() const { return engine_; }
 
@@ -126,6 +130,7 @@ private:
 
     const Scene* scene_;
     PhysicsEngine engine_;
+    Bounds bounds_;
     History history_{kHistoryBytes};
     FixedStepClock clock_;
     EnergySeries energies_;
