@@ -136,6 +136,10 @@ void App::quit(int code) {
     glutLeaveMainLoop();
 }
 
+int App::sceneWidth() const {
+    return panel_ ? std::max(width_ / 2, width_ - static_cast<int>(kPanelWidth) - 10) : width_;
+}
+
 void App::reshape(int w, int h) {
     width_ = std::max(1, w);
     height_ = std::max(1, h);

@@ -45,6 +45,11 @@ public:
 
 private:
     enum class MouseMode { None, Orbit, Pan, Drag, Look };
+    static constexpr float kPanelWidth = 340.0f;  ///< pixels, 10 more to the window's right edge
+
+    /// Width of the scene's viewport (pixels): the window left of the side panel when it is shown
+    /// (at least half the window), so that the scene is framed where nothing covers it.
+    int sceneWidth() const;
 
     void loadScene(const std::string& key);
     void frameScene();  ///< the scene's own view, or every body in view

@@ -86,7 +86,7 @@ void App::onKey(unsigned char c) {
             message(session_.gravityOn() ? "gravity on" : "gravity off");
             break;
         case 'x':
-            session_.shoot(camera_.rayThrough(mouseX_, mouseY_, width_, height_), 20.0);
+            session_.shoot(camera_.rayThrough(mouseX_, mouseY_, sceneWidth(), height_), 20.0);
             break;
         case 'i':
             session_.addBox(camera_.target() + Vec3(0.0, 3.0, 0.0));
@@ -179,7 +179,7 @@ void App::mouse(int button, int state, int x, int y) {
         return;
     }
     if (ImGui::GetIO().WantCaptureMouse) return;
-    const Ray ray = camera_.rayThrough(x, y, width_, height_);
+    const Ray ray = camera_.rayThrough(x, y, sceneWidth(), height_);
     if (button == GLUT_LEFT_BUTTON) {
         if (camera_.flying()) {
             mouseMode_ = MouseMode::Look;
@@ -210,7 +210,7 @@ void App::motion(int x, int y) {
             camera_.pan(dx, dy, height_);
             break;
         case MouseMode::Drag:
-            session_.dragTo(camera_.rayThrough(x, y, width_, height_));
+            session_.dragTo(camera_.rayThrough(x, y, sceneWidth(), height_));
             break;
         case MouseMode::None:
             break;
@@ -221,8 +221,8 @@ void App::passive(int x, int y) {
     ImGui_ImplGLUT_MotionFunc(x, y);
     mouseX_ = x;
     mouseY_ = y;
-    const auto hit = pick(session_.engine().bodies(), camera_.rayThrough(x, y, width_, height_));
-    hovered_ = hit ? std::optional<std::size_t>(hit->index) : std::nullopt;
+    const auto hit = pick(session_.engine().bodies(), camera_.rayThrough(x, y, sceneWidth(), height_));
+    hovered_ = hit && x < sceneWidth() ? std::optional<std::size_t>(hit->index) : std::nullopt;
 }
 
 void App::wheel(int wheelNumber, int direction, int x, int y) {
@@ -240,7 +240,7 @@ bool App::scriptPoint(std::istringstream& in, int& x, int& y) {
         try {
             const Body& b = session_.engine().body(first.substr(1));
             double px, py;
-            if (!camera_.project(b.position, width_, height_, px, py)) return false;
+            if (!camera_.project(b.position, sceneWidth(), height_, px, py)) return false;
             x = static_cast<int>(std::lround(px));
             y = static_cast<int>(std::lround(py));
             return true;

@@ -57,9 +57,8 @@ void App::drawOverlay() {
 }
 
 void App::drawPanel() {
-    const float width = 340.0f;
-    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width_) - width - 10.0f, 10.0f), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(width, static_cast<float>(height_) - 20.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width_) - kPanelWidth - 10.0f, 10.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidth, static_cast<float>(height_) - 20.0f), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.85f);
     ImGui::Begin("Game Physics Lab", &panel_, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
     PhysicsEngine& e = session_.engine();

@@ -1,8 +1,9 @@
 // Draws a session with fixed-function OpenGL (GL 2, as Mesa's llvmpipe runs it well): shaded
-// spheres, boxes and planes with their orientation, a ground grid, blob shadows and fog as depth
-// cues, static bodies in grey and movable ones in colour, the selection, the drag spring and the
-// reference ghost. Bodies are batched into one vertex array per frame: a thousand bodies cost a
-// few draw calls, not thousands.
+// spheres and boxes with their orientation, the ground as tiles (or a grid without one), other
+// planes as translucent walls around the scene, blob shadows and fog as depth cues, static bodies
+// in grey and movable ones in colour, springs, rods and ropes, the selection, the drag spring and
+// the reference ghost. Bodies are batched into one vertex array per
+// frame: a thousand bodies cost a few draw calls, not thousands.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +18,7 @@ namespace gpl::viewer {
 class Renderer {
 public:
     Renderer();
+    /// Draws into the viewport (0, 0, width, height) of the window: the part the side panel leaves.
     void draw(const Session& session, const Camera& camera, int width, int height, std::optional<std::size_t> hovered);
 
     /// Indexed vertices (llvmpipe shades each vertex once however many triangles share it).
