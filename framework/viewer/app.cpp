@@ -169,6 +169,9 @@ std::string App::state() const {
     j["fly"] = camera_.flying();
     j["camera_distance"] = camera_.distance();
     j["camera_eye"] = {camera_.eye().x(), camera_.eye().y(), camera_.eye().z()};
+    j["contacts_shown"] = contacts_;
+    j["contacts"] = e.contacts().size();
+    j["contact_iterations"] = e.contactIterations();
     j["help"] = help_;
     j["panel"] = panel_;
     j["recording"] = !recording_.empty();

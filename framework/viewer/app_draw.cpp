@@ -35,7 +35,8 @@ void App::display() {
     session_.frame(std::min(real, 0.25));
     const auto physicsDone = SteadyClock::now();
 
-    renderer_.draw(session_, camera_, sceneWidth(), height_, mouseMode_ == MouseMode::None ? hovered_ : std::nullopt);
+    renderer_.draw(session_, camera_, sceneWidth(), height_, mouseMode_ == MouseMode::None ? hovered_ : std::nullopt,
+                   contacts_);
 
     ImGui_ImplOpenGL2_NewFrame();
     ImGui_ImplGLUT_NewFrame();  // calls ImGui::NewFrame() itself (imgui 1.86)

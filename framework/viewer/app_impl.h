@@ -79,6 +79,7 @@ private:
     bool held_[256] = {};
     bool help_ = false;
     bool panel_ = true;
+    bool contacts_ = false;  ///< draw the contacts of the last step
     std::string message_;
     SteadyClock::time_point messageUntil_;
     SteadyClock::time_point lastFrame_;

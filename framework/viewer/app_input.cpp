@@ -27,6 +27,7 @@ const std::vector<std::pair<std::string, std::string>>& bindings() {
         {"i", "insert a box at the camera's target"},
         {"Delete, Backspace", "remove the selected body"},
         {"o", "reference ghost on / off (builds with solutions)"},
+        {"k", "contacts of the last step on / off: points and normals"},
         {"left drag on a body", "pull it with a spring to the cursor (and select it)"},
         {"left click", "select a body (click on nothing: clear)"},
         {"left drag elsewhere", "orbit the camera"},
@@ -107,6 +108,10 @@ void App::onKey(unsigned char c) {
                 session_.reset();
                 message("reference ghost on: the scene starts again beside the reference solution");
             }
+            break;
+        case 'k':
+            contacts_ = !contacts_;
+            message(contacts_ ? "contacts shown" : "contacts hidden");
             break;
         case 'f':
             camera_.setFlying(!camera_.flying());

@@ -1,6 +1,7 @@
 // Dear ImGui on top of the scene: the overlay, the side panel, the help and the tooltip.
 #include <imgui.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <cstdio>
@@ -126,6 +127,26 @@ void App::drawPanel() {
             ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "hooks not implemented yet:");
             for (const auto& h : e.missingHooks()) ImGui::BulletText("%s", h.c_str());
         }
+    }
+
+    if ((e.requiredStages().contains(Stage::CollisionDetection) || e.requiredStages().contains(Stage::Ropes)) &&
+        ImGui::CollapsingHeader("Contacts", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::Checkbox("show contacts (k)", &contacts_);
+        if (ImGui::IsItemHovered()) {
+            ImGui::SetTooltip(
+                "every point of every contact found in the last step, and its normal from the\n"
+                "first body towards the second (none after a step back: they are found in a step)");
+        }
+        double deepest = 0.0;
+        for (const Contact& c : e.contacts()) deepest = std::max(deepest, c.depth);
+        ImGui::Text("contacts of the last step: %zu", e.contacts().size());
+        if (!e.contacts().empty()) ImGui::Text("deepest overlap: %.3g mm", 1000.0 * deepest);
+        int iterations = e.contactIterations();
+        if (ImGui::SliderInt("iterations", &iterations, 1, Session::kMaxContactIterations, "%d",
+                             ImGuiSliderFlags_Logarithmic)) {
+            session_.setContactIterations(iterations);
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("sweeps over the contacts per step, for impulses and overlaps");
     }
 
     if (ImGui::CollapsingHeader("Energy", ImGuiTreeNodeFlags_DefaultOpen)) {

@@ -137,7 +137,7 @@ void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], c
 }
 
 void Renderer::draw(const Session& session, const Camera& camera, int width, int height,
-                    std::optional<std::size_t> hovered) {
+                    std::optional<std::size_t> hovered, bool showContacts) {
     const auto& bodies = session.engine().bodies();
     glViewport(0, 0, width, height);
     glClearColor(kSky[0], kSky[1], kSky[2], kSky[3]);
@@ -383,6 +383,31 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         translucent_.draw(GL_TRIANGLES);
         glDepthMask(GL_TRUE);
         glDisable(GL_BLEND);
+    }
+
+    // Contacts of the last step over everything: a dot at every point, and the normal (from the
+    // first body towards the second) as a line that pales towards its tip.
+    if (showContacts) {
+        glDisable(GL_LIGHTING);
+        glDisable(GL_DEPTH_TEST);
+        lines_.clear();
+        points_.clear();
+        const std::uint8_t dot[4] = {235, 30, 190, 255}, tip[4] = {255, 205, 240, 255};
+        for (const Contact& c : engine.contacts()) {
+            const double length = normalLength(c, bodies);
+            for (int k = 0; k < c.pointCount; ++k) {
+                points_.add(c.points[k], c.normal, dot);
+                lines_.add(c.points[k], c.normal, dot);
+                lines_.add(c.points[k] + length * c.normal, c.normal, tip);
+            }
+        }
+        glLineWidth(2.0f);
+        lines_.draw(GL_LINES);
+        glLineWidth(1.0f);
+        glPointSize(6.0f);
+        points_.draw(GL_POINTS);
+        glPointSize(1.0f);
+        glEnable(GL_DEPTH_TEST);
     }
     glDisable(GL_FOG);
     glDisable(GL_LIGHTING);

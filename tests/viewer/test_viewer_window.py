@@ -35,6 +35,19 @@ def not_sky_fraction(path):
     return off / len(pixels_)
 
 
+def count_pixels(path, test, box=None):
+    """Pixels for which test((r, g, b)) holds, within box (x0, y0, x1, y1) when given."""
+    (w, _), data = pixels(path)
+    x0, y0, x1, y1 = box or (0, 0, w, len(data) // w)
+    return sum(1 for i, p in enumerate(data) if x0 <= i % w < x1 and y0 <= i // w < y1 and test(p))
+
+
+def contact_coloured(p):
+    """The magenta of contact points and normals (no body or wall has it)."""
+    r, g, b = p
+    return r > 200 and g < 90 and b > 150
+
+
 def orange_centroid(path):
     """Centre (x, y) of the pixels of the first movable body's colour (orange), or None."""
     (w, _), data = pixels(path)
@@ -161,6 +174,19 @@ class Window(unittest.TestCase):
         self.assertGreater(states[0]["ghost_difference"], 0.5)
         rc, states, log = viewer(SOLUTIONS, "falling-sphere", "--ghost", "--script", "wait 60; dump; quit")
         self.assertEqual(states[0]["ghost_difference"], 0.0, "the reference agrees with itself")
+
+    def test_contacts_are_drawn_on_request(self):
+        off, on = self.tmp / "off.png", self.tmp / "on.png"
+        rc, states, log = viewer(SOLUTIONS, "balls-in-a-box", "--paused", "--steps", 150, "--script",
+                                 f"wait 2; shot {off}; wait 1; dump; key k; wait 2; shot {on}; wait 1; dump; key k; dump; quit")
+        self.assertEqual(rc, 0, log)
+        hidden, shown, hidden_again = states
+        self.assertFalse(hidden["contacts_shown"])
+        self.assertTrue(shown["contacts_shown"])
+        self.assertFalse(hidden_again["contacts_shown"])
+        self.assertGreater(shown["contacts"], 20, "balls resting on the floor and on each other")
+        self.assertEqual(count_pixels(off, contact_coloured), 0)
+        self.assertGreater(count_pixels(on, contact_coloured), 20 * 20, "a dot and a normal for every contact")
 
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"
