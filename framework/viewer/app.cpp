@@ -169,9 +169,16 @@ std::string App::state() const {
     j["fly"] = camera_.flying();
     j["camera_distance"] = camera_.distance();
     j["camera_eye"] = {camera_.eye().x(), camera_.eye().y(), camera_.eye().z()};
+    j["kinetic_energy"] = e.kineticEnergy();
     j["contacts_shown"] = contacts_;
     j["contacts"] = e.contacts().size();
     j["contact_iterations"] = e.contactIterations();
+    for (std::size_t i = 0; i < kStageCount; ++i) {
+        const auto s = static_cast<Stage>(i);
+        if (e.requiredStages().contains(s)) j["stages"][stageName(s)] = e.stageEnabled(s);
+    }
+    j["selected_restitution"] =
+        session_.selectedBody() ? nlohmann::json(session_.selectedBody()->restitution) : nlohmann::json();
     j["help"] = help_;
     j["panel"] = panel_;
     j["recording"] = !recording_.empty();

@@ -312,6 +312,32 @@ void App::runScript() {
             in >> dir;
             ok = scriptPoint(in, x, y);
             if (ok) wheel(0, dir == "up" ? 1 : -1, x, y);
+        } else if (verb == "set") {
+            // What the panel's widgets set: "set restitution 0.3" (of the selected body),
+            // "set contact-iterations 4", "set stage impulses off".
+            std::string what, value;
+            in >> what >> value;
+            ok = !value.empty();
+            if (ok && what == "restitution" && session_.selected()) {
+                session_.setRestitution(*session_.selected(), std::atof(value.c_str()));
+            } else if (ok && what == "contact-iterations") {
+                session_.setContactIterations(std::atoi(value.c_str()));
+            } else if (ok && what == "stage") {
+                // The stage's name may have spaces: the last word is on or off.
+                std::string name = value, onOff;
+                for (std::string word; in >> word;) name += " " + word;
+                const auto space = name.rfind(' ');
+                if (space != std::string::npos) onOff = name.substr(space + 1), name.resize(space);
+                ok = false;
+                for (std::size_t i = 0; i < kStageCount; ++i) {
+                    if (name == stageName(static_cast<Stage>(i)) && (onOff == "on" || onOff == "off")) {
+                        session_.setStageEnabled(static_cast<Stage>(i), onOff == "on");
+                        ok = true;
+                    }
+                }
+            } else {
+                ok = false;
+            }
         } else if (verb == "dump") {
             std::cout << "state " << state() << std::endl;
         } else if (verb == "shot") {

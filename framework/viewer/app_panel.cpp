@@ -105,7 +105,11 @@ void App::drawPanel() {
         float g[3] = {static_cast<float>(e.gravity().x()), static_cast<float>(e.gravity().y()),
                       static_cast<float>(e.gravity().z())};
         if (ImGui::InputFloat3("gravity (m/s^2)", g, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue)) {
-            e.setGravity(Vec3(g[0], g[1], g[2]));
+            try {
+                session_.setGravity(Vec3(g[0], g[1], g[2]));
+            } catch (const std::exception& ex) {
+                message(ex.what());
+            }
         }
         if (ImGui::BeginCombo("integrator", integratorName(e.integratorKind()))) {
             for (Integrator kind : kIntegrators) {
@@ -113,16 +117,20 @@ void App::drawPanel() {
             }
             ImGui::EndCombo();
         }
-        ImGui::Text("stages (required by the scene):");
+        // The stages the scene requires, in the order a step runs them, each one can be switched off;
+        // the others in one line.
+        ImGui::Text("stages of a step (required by the scene):");
+        std::string others;
         for (std::size_t i = 0; i < kStageCount; ++i) {
             const auto stage = static_cast<Stage>(i);
             if (!e.requiredStages().contains(stage)) {
-                ImGui::TextDisabled("  %s (not required)", stageName(stage));
+                others += (others.empty() ? "" : ", ") + std::string(stageName(stage));
                 continue;
             }
             bool on = e.stageEnabled(stage);
             if (ImGui::Checkbox(stageName(stage), &on)) session_.setStageEnabled(stage, on);
         }
+        if (!others.empty()) ImGui::TextWrapped("not required: %s", others.c_str());
         if (!e.missingHooks().empty()) {
             ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "hooks not implemented yet:");
             for (const auto& h : e.missingHooks()) ImGui::BulletText("%s", h.c_str());
@@ -147,6 +155,27 @@ void App::drawPanel() {
             session_.setContactIterations(iterations);
         }
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("sweeps over the contacts per step, for impulses and overlaps");
+    }
+
+    if (ImGui::CollapsingHeader("Selected body", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (const Body* b = session_.selectedBody()) {
+            ImGui::Text("%s (%s%s)", b->name.c_str(), shapeName(b->shape), b->isStatic() ? ", static" : "");
+            if (!b->isStatic()) ImGui::Text("mass %.4g kg", b->mass);
+            ImGui::Text("position %s m", vec(b->position).c_str());
+            ImGui::Text("velocity %s m/s", vec(b->velocity).c_str());
+            ImGui::Text("angular velocity %s rad/s", vec(b->angularVelocity).c_str());
+            ImGui::Text("kinetic %.4g J, potential %.4g J", kineticEnergy(*b), potentialEnergy(*b, e.gravity()));
+            float restitution = static_cast<float>(b->restitution);
+            if (ImGui::SliderFloat("restitution", &restitution, 0.0f, 1.0f, "%.2f")) {
+                session_.setRestitution(*session_.selected(), restitution);
+            }
+            if (ImGui::IsItemHovered()) {
+                ImGui::SetTooltip("0 plastic .. 1 elastic; a pair bounces with the product of its two");
+            }
+            if (ImGui::Button("remove")) session_.removeSelected();
+        } else {
+            ImGui::TextDisabled("click on a body");
+        }
     }
 
     if (ImGui::CollapsingHeader("Energy", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -176,20 +205,6 @@ void App::drawPanel() {
                 if (on) session_.reset();
             }
             if (session_.edited()) ImGui::TextDisabled("scene edited: reset (r) to compare again");
-        }
-    }
-
-    if (ImGui::CollapsingHeader("Selected body", ImGuiTreeNodeFlags_DefaultOpen)) {
-        if (const Body* b = session_.selectedBody()) {
-            ImGui::Text("%s (%s%s)", b->name.c_str(), shapeName(b->shape), b->isStatic() ? ", static" : "");
-            if (!b->isStatic()) ImGui::Text("mass %.4g kg", b->mass);
-            ImGui::Text("position %s m", vec(b->position).c_str());
-            ImGui::Text("velocity %s m/s", vec(b->velocity).c_str());
-            ImGui::Text("angular velocity %s rad/s", vec(b->angularVelocity).c_str());
-            ImGui::Text("kinetic %.4g J, potential %.4g J", kineticEnergy(*b), potentialEnergy(*b, e.gravity()));
-            if (ImGui::Button("remove")) session_.removeSelected();
-        } else {
-            ImGui::TextDisabled("click on a body");
         }
     }
 

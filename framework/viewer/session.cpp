@@ -114,8 +114,10 @@ void Session::setRestitution(std::size_t index, double e) {
     settingsChanged();
 }
 
-void Session::toggleGravity() {
-    engine_.setGravity(gravityOn() ? Vec3::Zero() : standardGravity());
+void Session::toggleGravity() { setGravity(gravityOn() ? Vec3::Zero() : standardGravity()); }
+
+void Session::setGravity(const Vec3& g) {
+    engine_.setGravity(g);
     settingsChanged();
 }
 

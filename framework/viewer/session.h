@@ -78,6 +78,7 @@ public:
     /// Like every edit, a step back to a state before it undoes it.
     void setRestitution(std::size_t index, double e);
     void toggleGravity();
+    void setGravity(const Vec3& g);  ///< m/s^2; throws std::invalid_argument when not finite
     bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
     void select(std::optional<std::size_t> index) { selected_ = index; }
     std::optional<std::size_t> selected() const { return selected_; }

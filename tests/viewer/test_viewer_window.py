@@ -188,6 +188,28 @@ class Window(unittest.TestCase):
         self.assertEqual(count_pixels(off, contact_coloured), 0)
         self.assertGreater(count_pixels(on, contact_coloured), 20 * 20, "a dot and a normal for every contact")
 
+    def test_the_restitution_of_the_selected_body_and_the_stages_can_be_changed(self):
+        # The ball of restitution 0.9 bounces back up from the floor; made plastic (the panel's
+        # slider, or the script's 'set'), it stays down, as it does with the impulse stage off.
+        script = "down left @e=0.9; up left @e=0.9; {}; dump; key space; wait 90; dump; quit"
+        rc, states, log = viewer(SOLUTIONS, "bouncing-balls", "--paused", "--script", script.format("wait 1"))
+        self.assertEqual(rc, 0, log)
+        self.assertEqual(states[0]["selected_restitution"], 0.9)
+        self.assertGreater(states[1]["positions"]["e=0.9"][1], 1.0, "bounced back up")
+        rc, states, log = viewer(SOLUTIONS, "bouncing-balls", "--paused", "--script", script.format("set restitution 0"))
+        self.assertEqual(rc, 0, log)
+        self.assertEqual(states[0]["selected"], "e=0.9")
+        self.assertEqual(states[0]["selected_restitution"], 0.0)
+        self.assertLess(states[1]["positions"]["e=0.9"][1], 0.35, "plastic: it stays on the floor")
+        self.assertGreater(states[1]["positions"]["e=0.7"][1], 0.5, "the others still bounce")
+        rc, states, log = viewer(SOLUTIONS, "bouncing-balls", "--paused", "--script",
+                                 script.format("set stage impulses off; set contact-iterations 3"))
+        self.assertEqual(rc, 0, log)
+        self.assertFalse(states[0]["stages"]["impulses"])
+        self.assertTrue(states[0]["stages"]["interpenetration"])
+        self.assertEqual(states[0]["contact_iterations"], 3)
+        self.assertLess(states[1]["positions"]["e=0.9"][1], 0.35, "without impulses every landing is plastic")
+
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"
         rc, states, log = viewer(SOLUTIONS, "projectile", "--script", f"wait 1; key v; wait 10; key v; dump; quit",
