@@ -8,7 +8,7 @@ import subprocess
 import tempfile
 import unittest
 
-from PIL import Image
+from PIL import Image, ImageChops
 
 SOLUTIONS = os.environ.get("GPL_VIEWER_SOLUTIONS")
 ASSIGNMENTS = os.environ.get("GPL_VIEWER_ASSIGNMENTS")
@@ -46,6 +46,13 @@ def contact_coloured(p):
     """The magenta of contact points and normals (no body or wall has it)."""
     r, g, b = p
     return r > 200 and g < 90 and b > 150
+
+
+def changed_pixels(path_a, path_b, box):
+    """Pixels that differ between two pictures within box (x0, y0, x1, y1)."""
+    with Image.open(path_a) as a, Image.open(path_b) as b:
+        r, g, b_ = ImageChops.difference(a.convert("RGB").crop(box), b.convert("RGB").crop(box)).split()
+        return sum(ImageChops.lighter(ImageChops.lighter(r, g), b_).histogram()[1:])
 
 
 def orange_centroid(path):
@@ -209,6 +216,29 @@ class Window(unittest.TestCase):
         self.assertTrue(states[0]["stages"]["interpenetration"])
         self.assertEqual(states[0]["contact_iterations"], 3)
         self.assertLess(states[1]["positions"]["e=0.9"][1], 0.35, "without impulses every landing is plastic")
+
+    def test_the_contact_scenes_show_moving_bodies_and_the_ghost_agrees(self):
+        # Worksheets 3 and 4, one after the other by key, with the reference ghost: in each, the
+        # picture changes where the scene is drawn (left of the panel, below the overlay), the
+        # bodies move, and the reference solution agrees with itself.
+        keys = ["9", "F1", "F2", "F3", "F4", "F5", "F6"]
+        script = "".join(f"key {k}; wait 2; shot {self.tmp / k}-a.png; wait 24; shot {self.tmp / k}-b.png; wait 1; dump; "
+                         for k in keys)
+        rc, states, log = viewer(SOLUTIONS, "--ghost", "--script", script + "quit", timeout=300)
+        self.assertEqual(rc, 0, log)
+        self.assertEqual([s["key"] for s in states], keys)
+        for key, state in zip(keys, states):
+            with self.subTest(scene=state["scene"]):
+                self.assertEqual(state["error"], "")
+                self.assertGreater(state["kinetic_energy"], 0.1, "bodies move")
+                self.assertTrue(state["ghost"])
+                self.assertEqual(state["ghost_difference"], 0.0)
+                a, b = self.tmp / f"{key}-a.png", self.tmp / f"{key}-b.png"
+                self.assertGreater(not_sky_fraction(b), 0.2)
+                self.assertGreater(changed_pixels(a, b, (0, 150, 920, 720)), 500, "the bodies move on screen")
+                if key in ("9", "F3"):  # a floor that walls enclose: the box's, the table's cloth
+                    cloth = count_pixels(b, lambda p: p[0] < 90 and p[1] > p[0] + 40 and p[2] > p[0] + 15)
+                    self.assertGreater(cloth, 20000, "the enclosed floor is drawn in the walls' green")
 
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"
