@@ -96,15 +96,15 @@ void heap(PhysicsEngine& e) {
 
 void addWorksheet4Scenes(SceneRegistry& r) {
     r.add({"bouncing-balls", "F2", "Five balls of restitution 0 to 0.9 bounce on a floor: heights fall like e^2.", 4,
-           kImpulses, kDefaultTimeStep, bouncingBalls, Integrator::SemiImplicitEuler, Vec3(0.0, 2.0, 0.0), 9.0});
+           kImpulses, kDefaultTimeStep, bouncingBalls, Integrator::SemiImplicitEuler, Vec3(0.0, 2.4, 0.0), 10.5});
     r.add({"billiards", "F3", "A billiard break on a table of planes: impulses between balls and cushions.", 4,
-           kImpulses, 0.002, billiards, Integrator::SemiImplicitEuler, Vec3(0.0, 0.0, 0.0), 2.6});
+           kImpulses, 0.002, billiards, Integrator::SemiImplicitEuler, Vec3(0.0, 0.5, 0.3), 3.0});
     r.add({"newtons-cradle", "F4", "Newton's cradle: five balls on ropes pass one impulse along the row.", 4, kRopes,
            0.0025, newtonsCradle, Integrator::SemiImplicitEuler, Vec3(0.0, 2.6, 0.0), 6.0});
     r.add({"balls-on-a-rope", "F5", "Two balls tied by a rope: thrown, it goes slack and jerks taut.", 4, kRopes,
            kDefaultTimeStep, ballsOnARope, Integrator::SemiImplicitEuler, Vec3(1.0, 2.5, 0.0), 10.0});
     r.add({"heap", "F6", "1000 spheres dropped on a plane: the heap the engine benchmark compares.", 4, kImpulses,
-           kDefaultTimeStep, heap, Integrator::SemiImplicitEuler, Vec3(0.0, 4.0, 0.0), 26.0});
+           kDefaultTimeStep, heap, Integrator::SemiImplicitEuler, Vec3(0.0, 5.0, 0.0), 30.0});
 }
 
 }  // namespace gpl

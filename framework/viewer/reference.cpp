@@ -2,6 +2,8 @@
 // framework/viewer/CMakeLists.txt): every gpl:: name below is the reference engine's.
 #include "reference.h"
 
+#include <algorithm>
+
 #include "gpl/scenes.h"
 
 namespace gplref {
@@ -9,12 +11,21 @@ namespace {
 
 class World : public ReferenceWorld {
 public:
-    void load(const std::string& scene, double timeStep, const std::array<double, 3>& g,
-              const std::string& integrator) override {
+    void load(const std::string& scene, const Settings& s) override {
         gpl::load(engine_, gpl::scenes().find(scene));
-        engine_.setTimeStep(timeStep);
-        engine_.setGravity(gpl::Vec3(g[0], g[1], g[2]));
-        engine_.setIntegratorKind(gpl::integratorFromId(integrator));
+        engine_.setTimeStep(s.timeStep);
+        engine_.setGravity(gpl::Vec3(s.gravity[0], s.gravity[1], s.gravity[2]));
+        engine_.setIntegratorKind(gpl::integratorFromId(s.integrator));
+        engine_.setContactIterations(s.contactIterations);
+        // gpl::load() keeps which stages are switched off: set every one.
+        for (std::size_t i = 0; i < gpl::kStageCount; ++i) {
+            const bool off = std::count(s.disabledStages.begin(), s.disabledStages.end(), static_cast<int>(i)) > 0;
+            engine_.setStageEnabled(static_cast<gpl::Stage>(i), !off);
+        }
+        auto& bodies = engine_.bodies();
+        for (std::size_t i = 0; i < std::min(bodies.size(), s.restitution.size()); ++i) {
+            bodies[i].restitution = s.restitution[i];
+        }
     }
     void step() override { engine_.step(); }
     std::vector<std::array<double, 7>> poses() const override {

@@ -14,10 +14,17 @@ namespace gplref {
 class ReferenceWorld {
 public:
     virtual ~ReferenceWorld() = default;
-    /// Loads the scene by name with the given time step (s), gravity (m/s^2) and integrator (its
-    /// id, as gpl::integratorId() spells it).
-    virtual void load(const std::string& scene, double timeStep, const std::array<double, 3>& gravity,
-                      const std::string& integrator) = 0;
+    /// What the viewer may have changed before the first step; the reference takes the same.
+    struct Settings {
+        double timeStep = 0.01;           ///< s, of one engine step
+        std::array<double, 3> gravity{};  ///< m/s^2
+        std::string integrator;           ///< its id, as gpl::integratorId() spells it
+        int contactIterations = 10;       ///< sweeps over the contacts per step
+        std::vector<int> disabledStages;  ///< gpl::Stage values switched off
+        std::vector<double> restitution;  ///< per body, in the scene's order (0..1)
+    };
+    /// Loads the scene by name, then applies the settings.
+    virtual void load(const std::string& scene, const Settings& settings) = 0;
     virtual void step() = 0;
     /// Position (m) and orientation (w, x, y, z) of every body, in the scene's order.
     virtual std::vector<std::array<double, 7>> poses() const = 0;

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene_shapes.h"
+
 namespace gpl::viewer {
 namespace {
 
@@ -78,7 +80,7 @@ double groundHeight(const std::vector<Body>& bodies, bool& found) {
     found = false;
     double y = 0.0;
     for (const Body& b : bodies) {
-        if (b.shape != Shape::Plane || (b.orientation * b.normal).y() < 0.99) continue;
+        if (!isGround(b)) continue;
         y = found ? std::max(y, b.position.y()) : b.position.y();
         found = true;
     }
@@ -135,7 +137,7 @@ void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], c
 }
 
 void Renderer::draw(const Session& session, const Camera& camera, int width, int height,
-                    std::optional<std::size_t> hovered) {
+                    std::optional<std::size_t> hovered, bool showContacts) {
     const auto& bodies = session.engine().bodies();
     glViewport(0, 0, width, height);
     glClearColor(kSky[0], kSky[1], kSky[2], kSky[3]);
@@ -168,12 +170,12 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     glFogf(GL_FOG_START, static_cast<float>(camera.distance() * 1.5));
     glFogf(GL_FOG_END, static_cast<float>(camera.distance() * 5.0 + 60.0));
 
-    // Planes as checkered tiles (fog is computed per vertex, so a plane needs many vertices).
+    // The ground as checkered tiles (fog is computed per vertex, so a plane needs many vertices).
     bool hasFloor = false;
     const double ground = groundHeight(bodies, hasFloor);
     solid_.clear();
     for (const Body& b : bodies) {
-        if (b.shape != Shape::Plane) continue;
+        if (!isGround(b)) continue;
         const Vec3 n = (b.orientation * b.normal).normalized();
         const Vec3 u = (std::abs(n.y()) < 0.9 ? n.cross(Vec3::UnitY()) : n.cross(Vec3::UnitX())).normalized();
         const Vec3 v = n.cross(u);
@@ -196,6 +198,22 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     glDisable(GL_CULL_FACE);
     solid_.draw(GL_TRIANGLES);
     glEnable(GL_CULL_FACE);
+
+    // The ground that walls enclose (a table's cloth, a box's floor) in the walls' colour, a shade
+    // darker, over the tiles.
+    if (const auto inside = enclosedGround(bodies)) {
+        solid_.clear();
+        const std::uint8_t cloth[4] = {52, 118, 84, 255};
+        const auto first = static_cast<std::uint32_t>(solid_.positions.size() / 3);
+        for (const Vec3& p : inside->corners) solid_.add(p, inside->normal, cloth);
+        for (std::uint32_t k = 1; k + 1 < inside->corners.size(); ++k) {
+            solid_.indices.insert(solid_.indices.end(), {first, first + k, first + k + 1});
+        }
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(-1.0f, -2.0f);
+        solid_.draw(GL_TRIANGLES);
+        glDisable(GL_POLYGON_OFFSET_FILL);
+    }
 
     // Without a floor, a grid of 1 m lines (every fifth darker) at height 0 shows where down is.
     glDisable(GL_LIGHTING);
@@ -259,6 +277,20 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         lines_.add(bodies[c.a].position, Vec3::UnitY(), rodColour);
         lines_.add(bodies[c.b].position, Vec3::UnitY(), rodColour);
     }
+    // Ropes: taut ones straight and dark, slack ones sagging and pale.
+    const std::uint8_t taut[4] = {75, 45, 20, 255}, slack[4] = {190, 150, 95, 255};
+    for (const Rope& r : engine.ropes()) {
+        const Vec3 &a = bodies[r.a].position, &b = bodies[r.b].position;
+        const bool tight = ropeTaut(r, bodies, engine.contacts());
+        auto curve = tight ? std::vector<Vec3>{a, b} : ropeCurve(a, b, r.length, -Vec3::UnitY(), 24);
+        for (Vec3& p : curve) {
+            if (hasFloor) p.y() = std::max(p.y(), ground + 0.005);  // a slack rope lies on the ground
+        }
+        for (std::size_t i = 1; i < curve.size(); ++i) {
+            lines_.add(curve[i - 1], Vec3::UnitY(), tight ? taut : slack);
+            lines_.add(curve[i], Vec3::UnitY(), tight ? taut : slack);
+        }
+    }
     if (const auto& box = engine.container()) {
         const std::uint8_t wire[4] = {90, 100, 120, 255};
         for (int ring = 0; ring < 3; ++ring) {  // three great circles
@@ -302,6 +334,37 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     }
     glEnable(GL_LIGHTING);
 
+    // Walls, cushions and slopes: translucent where the camera sees their free side, and outlined
+    // only where it looks at them from behind (the front wall of a box would hide what is inside).
+    translucent_.clear();
+    lines_.clear();
+    const Vec3 eyeAt = camera.eye();
+    for (const PlanePatch& w : wallPatches(bodies, session.bounds())) {
+        const bool facing = w.normal.dot(eyeAt - bodies[w.body].position) > 0.0;
+        const std::uint8_t glass[4] = {70, 150, 130, 80}, edge[4] = {35, 95, 80, 255}, back[4] = {95, 140, 128, 255};
+        for (std::size_t k = 0; k < w.corners.size(); ++k) {
+            lines_.add(w.corners[k], w.normal, facing ? edge : back);
+            lines_.add(w.corners[(k + 1) % w.corners.size()], w.normal, facing ? edge : back);
+        }
+        if (!facing) continue;
+        const auto first = static_cast<std::uint32_t>(translucent_.positions.size() / 3);
+        for (const Vec3& p : w.corners) translucent_.add(p, w.normal, glass);
+        for (std::uint32_t k = 1; k + 1 < w.corners.size(); ++k) {
+            translucent_.indices.insert(translucent_.indices.end(), {first, first + k, first + k + 1});
+        }
+    }
+    glDisable(GL_LIGHTING);
+    glLineWidth(2.0f);
+    lines_.draw(GL_LINES);
+    glLineWidth(1.0f);
+    glEnable(GL_LIGHTING);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    translucent_.draw(GL_TRIANGLES);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+
     // The reference ghost, translucent, over everything opaque.
     if (session.ghostOn()) {
         translucent_.clear();
@@ -320,6 +383,31 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         translucent_.draw(GL_TRIANGLES);
         glDepthMask(GL_TRUE);
         glDisable(GL_BLEND);
+    }
+
+    // Contacts of the last step over everything: a dot at every point, and the normal (from the
+    // first body towards the second) as a line that pales towards its tip.
+    if (showContacts) {
+        glDisable(GL_LIGHTING);
+        glDisable(GL_DEPTH_TEST);
+        lines_.clear();
+        points_.clear();
+        const std::uint8_t dot[4] = {235, 30, 190, 255}, tip[4] = {255, 205, 240, 255};
+        for (const Contact& c : engine.contacts()) {
+            const double length = normalLength(c, bodies);
+            for (int k = 0; k < c.pointCount; ++k) {
+                points_.add(c.points[k], c.normal, dot);
+                lines_.add(c.points[k], c.normal, dot);
+                lines_.add(c.points[k] + length * c.normal, c.normal, tip);
+            }
+        }
+        glLineWidth(2.0f);
+        lines_.draw(GL_LINES);
+        glLineWidth(1.0f);
+        glPointSize(6.0f);
+        points_.draw(GL_POINTS);
+        glPointSize(1.0f);
+        glEnable(GL_DEPTH_TEST);
     }
     glDisable(GL_FOG);
     glDisable(GL_LIGHTING);

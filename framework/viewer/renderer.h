@@ -1,8 +1,9 @@
 // Draws a session with fixed-function OpenGL (GL 2, as Mesa's llvmpipe runs it well): shaded
-// spheres, boxes and planes with their orientation, a ground grid, blob shadows and fog as depth
-// cues, static bodies in grey and movable ones in colour, the selection, the drag spring and the
-// reference ghost. Bodies are batched into one vertex array per frame: a thousand bodies cost a
-// few draw calls, not thousands.
+// spheres and boxes with their orientation, the ground as tiles (or a grid without one), other
+// planes as translucent walls around the scene, blob shadows and fog as depth cues, static bodies
+// in grey and movable ones in colour, springs, rods and ropes, the selection, the drag spring, the
+// reference ghost and, on request, the contacts. Bodies are batched into one vertex array per
+// frame: a thousand bodies cost a few draw calls, not thousands.
 #pragma once
 
 #include <cstdint>
@@ -17,7 +18,9 @@ namespace gpl::viewer {
 class Renderer {
 public:
     Renderer();
-    void draw(const Session& session, const Camera& camera, int width, int height, std::optional<std::size_t> hovered);
+    /// Draws into the viewport (0, 0, width, height) of the window: the part the side panel leaves.
+    void draw(const Session& session, const Camera& camera, int width, int height, std::optional<std::size_t> hovered,
+              bool showContacts);
 
     /// Indexed vertices (llvmpipe shades each vertex once however many triangles share it).
     struct Mesh {
@@ -40,7 +43,7 @@ private:
     Mesh sphere_[3];  ///< unit spheres, fine to coarse
     Mesh cube_;       ///< the cube [-1, 1]^3
     Mesh disc_;       ///< unit disc in the x-z plane
-    Batch solid_, translucent_, shadows_, lines_;
+    Batch solid_, translucent_, shadows_, lines_, points_;
 };
 
 }  // namespace gpl::viewer

@@ -19,6 +19,7 @@ Session::Session(const Scene& scene) : scene_(&scene), reference_(gplref::makeRe
 void Session::load(const Scene& scene) {
     scene_ = &scene;
     gpl::load(engine_, scene);
+    bounds_ = sceneBounds(engine_.bodies());
     tick_ = scene.timeStep;
     engine_.setTimeStep(tick_ / substeps_);
     history_.clear();
@@ -98,8 +99,25 @@ void Session::setIntegrator(Integrator kind) {
     settingsChanged();
 }
 
-void Session::toggleGravity() {
-    engine_.setGravity(gravityOn() ? Vec3::Zero() : standardGravity());
+void Session::setStageEnabled(Stage stage, bool on) {
+    engine_.setStageEnabled(stage, on);
+    settingsChanged();
+}
+
+void Session::setContactIterations(int n) {
+    engine_.setContactIterations(std::clamp(n, 1, kMaxContactIterations));
+    settingsChanged();
+}
+
+void Session::setRestitution(std::size_t index, double e) {
+    engine_.bodies().at(index).restitution = std::clamp(e, 0.0, 1.0);
+    settingsChanged();
+}
+
+void Session::toggleGravity() { setGravity(gravityOn() ? Vec3::Zero() : standardGravity()); }
+
+void Session::setGravity(const Vec3& g) {
+    engine_.setGravity(g);
     settingsChanged();
 }
 
@@ -160,6 +178,9 @@ void Session::addBox(const Vec3& at) {
 bool Session::removeSelected() {
     if (!selected_) return false;
     engine_.remove(*selected_);
+    // The states before hold the body, while the springs, rods and ropes left are numbered without
+    // it: stepping back into them would tie the wrong bodies together.
+    history_.clear();
     selected_.reset();
     drag_.reset();
     edited_ = true;
@@ -175,9 +196,17 @@ void Session::restartGhost() {
     ghostPoses_.clear();
     if (!ghostOn_ || !reference_) return;
     try {
+        gplref::ReferenceWorld::Settings settings;
+        settings.timeStep = engine_.timeStep();
         const Vec3 g = engine_.gravity();
-        reference_->load(scene_->name, engine_.timeStep(), {g.x(), g.y(), g.z()},
-                         integratorId(engine_.integratorKind()));
+        settings.gravity = {g.x(), g.y(), g.z()};
+        settings.integrator = integratorId(engine_.integratorKind());
+        settings.contactIterations = engine_.contactIterations();
+        for (std::size_t i = 0; i < kStageCount; ++i) {
+            if (!engine_.stageEnabled(static_cast<Stage>(i))) settings.disabledStages.push_back(static_cast<int>(i));
+        }
+        for (const Body& b : engine_.bodies()) settings.restitution.push_back(b.restitution);
+        reference_->load(scene_->name, settings);
         ghostPoses_ = reference_->poses();
     } catch (const std::exception& e) {
         error_ = std::string("reference ghost: ") + e.what();

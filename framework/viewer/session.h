@@ -16,6 +16,7 @@
 #include "history.h"
 #include "picking.h"
 #include "reference.h"
+#include "scene_shapes.h"
 
 namespace gpl::viewer {
 
@@ -40,6 +41,9 @@ public:
     void load(const Scene& scene);
     void reset() { load(*scene_); }
     const Scene& scene() const { return *scene_; }
+    /// The space the scene fills when it starts (sceneBounds()): walls are drawn within it, so
+    /// they stay put while bodies move, are shot or are added.
+    const Bounds& bounds() const { return bounds_; }
     PhysicsEngine& engine() { return engine_; }
     const PhysicsEngine& engine() const { return engine_; }
 
@@ -65,7 +69,16 @@ public:
 
     // ---- Interaction ---------------------------------------------------------------------------
     void setIntegrator(Integrator kind);
+    /// Switches a stage the scene requires on or off (the panel's stage list).
+    void setStageEnabled(Stage stage, bool on);
+    /// Sweeps over the contacts per step, clamped to 1 .. kMaxContactIterations.
+    void setContactIterations(int n);
+    static constexpr int kMaxContactIterations = 100;
+    /// Sets a body's coefficient of restitution, clamped to 0 .. 1; it acts from the next step on.
+    /// Like every edit, a step back to a state before it undoes it.
+    void setRestitution(std::size_t index, double e);
     void toggleGravity();
+    void setGravity(const Vec3& g);  ///< m/s^2; throws std::invalid_argument when not finite
     bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
     void select(std::optional<std::size_t> index) { selected_ = index; }
     std::optional<std::size_t> selected() const { return selected_; }
@@ -82,8 +95,9 @@ public:
     void shoot(const Ray& from, double speed);  ///< a 1 kg sphere from the camera (m/s)
     void addBox(const Vec3& at);                ///< a 1 m box dropped at a point
     bool removeSelected();
-    /// Edits (add, remove, drag, step back, settings changed after the start) stop the reference
-    /// ghost; a reset starts it again.
+    /// Edits (add, remove, drag, step back, settings or restitution changed after the start) stop
+    /// the reference ghost; a reset starts it again. Before the first step the ghost starts over
+    /// with the changed settings instead.
     bool edited() const { return edited_; }
 
     // ---- Diagnostics ---------------------------------------------------------------------------
@@ -117,6 +131,7 @@ private:
 
     const Scene* scene_;
     PhysicsEngine engine_;
+    Bounds bounds_;
     History history_{kHistoryBytes};
     FixedStepClock clock_;
     EnergySeries energies_;

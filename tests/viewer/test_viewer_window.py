@@ -8,7 +8,7 @@ import subprocess
 import tempfile
 import unittest
 
-from PIL import Image
+from PIL import Image, ImageChops
 
 SOLUTIONS = os.environ.get("GPL_VIEWER_SOLUTIONS")
 ASSIGNMENTS = os.environ.get("GPL_VIEWER_ASSIGNMENTS")
@@ -33,6 +33,26 @@ def not_sky_fraction(path):
     _, pixels_ = pixels(path)
     off = sum(1 for p in pixels_ if max(abs(a - b) for a, b in zip(p, SKY)) > 12)
     return off / len(pixels_)
+
+
+def count_pixels(path, test, box=None):
+    """Pixels for which test((r, g, b)) holds, within box (x0, y0, x1, y1) when given."""
+    (w, _), data = pixels(path)
+    x0, y0, x1, y1 = box or (0, 0, w, len(data) // w)
+    return sum(1 for i, p in enumerate(data) if x0 <= i % w < x1 and y0 <= i // w < y1 and test(p))
+
+
+def contact_coloured(p):
+    """The magenta of contact points and normals (no body or wall has it)."""
+    r, g, b = p
+    return r > 200 and g < 90 and b > 150
+
+
+def changed_pixels(path_a, path_b, box):
+    """Pixels that differ between two pictures within box (x0, y0, x1, y1)."""
+    with Image.open(path_a) as a, Image.open(path_b) as b:
+        r, g, b_ = ImageChops.difference(a.convert("RGB").crop(box), b.convert("RGB").crop(box)).split()
+        return sum(ImageChops.lighter(ImageChops.lighter(r, g), b_).histogram()[1:])
 
 
 def orange_centroid(path):
@@ -161,6 +181,64 @@ class Window(unittest.TestCase):
         self.assertGreater(states[0]["ghost_difference"], 0.5)
         rc, states, log = viewer(SOLUTIONS, "falling-sphere", "--ghost", "--script", "wait 60; dump; quit")
         self.assertEqual(states[0]["ghost_difference"], 0.0, "the reference agrees with itself")
+
+    def test_contacts_are_drawn_on_request(self):
+        off, on = self.tmp / "off.png", self.tmp / "on.png"
+        rc, states, log = viewer(SOLUTIONS, "balls-in-a-box", "--paused", "--steps", 150, "--script",
+                                 f"wait 2; shot {off}; wait 1; dump; key k; wait 2; shot {on}; wait 1; dump; key k; dump; quit")
+        self.assertEqual(rc, 0, log)
+        hidden, shown, hidden_again = states
+        self.assertFalse(hidden["contacts_shown"])
+        self.assertTrue(shown["contacts_shown"])
+        self.assertFalse(hidden_again["contacts_shown"])
+        self.assertGreater(shown["contacts"], 20, "balls resting on the floor and on each other")
+        self.assertEqual(count_pixels(off, contact_coloured), 0)
+        self.assertGreater(count_pixels(on, contact_coloured), 20 * 20, "a dot and a normal for every contact")
+
+    def test_the_restitution_of_the_selected_body_and_the_stages_can_be_changed(self):
+        # The ball of restitution 0.9 bounces back up from the floor; made plastic (the panel's
+        # slider, or the script's 'set'), it stays down, as it does with the impulse stage off.
+        script = "down left @e=0.9; up left @e=0.9; {}; dump; key space; wait 90; dump; quit"
+        rc, states, log = viewer(SOLUTIONS, "bouncing-balls", "--paused", "--script", script.format("wait 1"))
+        self.assertEqual(rc, 0, log)
+        self.assertEqual(states[0]["selected_restitution"], 0.9)
+        self.assertGreater(states[1]["positions"]["e=0.9"][1], 1.0, "bounced back up")
+        rc, states, log = viewer(SOLUTIONS, "bouncing-balls", "--paused", "--script", script.format("set restitution 0"))
+        self.assertEqual(rc, 0, log)
+        self.assertEqual(states[0]["selected"], "e=0.9")
+        self.assertEqual(states[0]["selected_restitution"], 0.0)
+        self.assertLess(states[1]["positions"]["e=0.9"][1], 0.35, "plastic: it stays on the floor")
+        self.assertGreater(states[1]["positions"]["e=0.7"][1], 0.5, "the others still bounce")
+        rc, states, log = viewer(SOLUTIONS, "bouncing-balls", "--paused", "--script",
+                                 script.format("set stage impulses off; set contact-iterations 3"))
+        self.assertEqual(rc, 0, log)
+        self.assertFalse(states[0]["stages"]["impulses"])
+        self.assertTrue(states[0]["stages"]["interpenetration"])
+        self.assertEqual(states[0]["contact_iterations"], 3)
+        self.assertLess(states[1]["positions"]["e=0.9"][1], 0.35, "without impulses every landing is plastic")
+
+    def test_the_contact_scenes_show_moving_bodies_and_the_ghost_agrees(self):
+        # Worksheets 3 and 4, one after the other by key, with the reference ghost: in each, the
+        # picture changes where the scene is drawn (left of the panel, below the overlay), the
+        # bodies move, and the reference solution agrees with itself.
+        keys = ["9", "F1", "F2", "F3", "F4", "F5", "F6"]
+        script = "".join(f"key {k}; wait 2; shot {self.tmp / k}-a.png; wait 24; shot {self.tmp / k}-b.png; wait 1; dump; "
+                         for k in keys)
+        rc, states, log = viewer(SOLUTIONS, "--ghost", "--script", script + "quit", timeout=300)
+        self.assertEqual(rc, 0, log)
+        self.assertEqual([s["key"] for s in states], keys)
+        for key, state in zip(keys, states):
+            with self.subTest(scene=state["scene"]):
+                self.assertEqual(state["error"], "")
+                self.assertGreater(state["kinetic_energy"], 0.1, "bodies move")
+                self.assertTrue(state["ghost"])
+                self.assertEqual(state["ghost_difference"], 0.0)
+                a, b = self.tmp / f"{key}-a.png", self.tmp / f"{key}-b.png"
+                self.assertGreater(not_sky_fraction(b), 0.2)
+                self.assertGreater(changed_pixels(a, b, (0, 150, 920, 720)), 500, "the bodies move on screen")
+                if key in ("9", "F3"):  # a floor that walls enclose: the box's, the table's cloth
+                    cloth = count_pixels(b, lambda p: p[0] < 90 and p[1] > p[0] + 40 and p[2] > p[0] + 15)
+                    self.assertGreater(cloth, 20000, "the enclosed floor is drawn in the walls' green")
 
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"

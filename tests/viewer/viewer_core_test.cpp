@@ -1,5 +1,5 @@
-// The viewer's GL-free parts: camera, fixed-step clock, history, picking and the session that
-// keys and mouse drive.
+// The viewer's GL-free parts: camera, fixed-step clock, history, picking, the shapes drawn besides
+// the bodies (walls, ropes, contact normals) and the session that keys and mouse drive.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +8,7 @@
 #include "clock.h"
 #include "history.h"
 #include "picking.h"
+#include "scene_shapes.h"
 #include "session.h"
 
 namespace gpl::viewer {
@@ -244,6 +245,167 @@ TEST_F(SessionTest, GhostStepsTheReferenceInLockStep) {
     EXPECT_FALSE(session.ghostOn()) << "an edit stops the comparison";
     session.reset();
     EXPECT_TRUE(session.ghostOn());
+}
+
+TEST(SessionEdits, RemovingABodyForgetsTheHistoryBeforeIt) {
+    // Newton's cradle: the ropes after a removed ball are numbered anew; a step back into a state
+    // that still holds the ball would tie ropes to the wrong bodies.
+    Session s{scenes().find("newtons-cradle")};
+    for (int i = 0; i < 5; ++i) s.stepOnce();
+    s.select(s.engine().bodies().size() / 2);
+    ASSERT_TRUE(s.removeSelected());
+    EXPECT_FALSE(s.stepBack()) << "nothing to step back into";
+    s.stepOnce();
+    ASSERT_TRUE(s.stepBack());
+    for (const Rope& r : s.engine().ropes()) {
+        EXPECT_TRUE(s.engine().bodies()[r.a].isStatic()) << "each rope hangs from an anchor";
+        EXPECT_FALSE(s.engine().bodies()[r.b].isStatic());
+    }
+}
+
+TEST(SessionContacts, StagesIterationsAndRestitutionGoThroughTheSessionAndTheGhost) {
+    Session s{scenes().find("bouncing-balls")};
+    ASSERT_TRUE(s.ghostAvailable());
+    s.setGhost(true);
+    // Before the first step the ghost starts over with every change, so it still agrees.
+    s.setContactIterations(3);
+    EXPECT_EQ(s.engine().contactIterations(), 3);
+    s.setContactIterations(0);
+    EXPECT_EQ(s.engine().contactIterations(), 1) << "clamped";
+    s.setContactIterations(1000);
+    EXPECT_EQ(s.engine().contactIterations(), Session::kMaxContactIterations);
+    const std::size_t ball = 5;  // e=0.9
+    s.setRestitution(ball, 0.0);
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 0.0);
+    s.setRestitution(ball, 1.7);
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 1.0) << "clamped";
+    s.setRestitution(ball, 0.2);
+    s.setStageEnabled(Stage::Interpenetration, false);
+    EXPECT_FALSE(s.engine().stageActive(Stage::Interpenetration));
+    for (int i = 0; i < 150; ++i) s.stepOnce();
+    EXPECT_TRUE(s.ghostOn());
+    EXPECT_EQ(s.ghostDifference(), 0.0) << "the reference took the same settings";
+    EXPECT_FALSE(s.engine().contacts().empty()) << "balls resting on the floor";
+    // After the start an edit stops the comparison, as other edits do.
+    s.setRestitution(ball, 0.9);
+    EXPECT_FALSE(s.ghostOn());
+    // A step back to a state before the edit undoes it, as it does every edit.
+    s.stepOnce();
+    ASSERT_TRUE(s.stepBack());
+    ASSERT_TRUE(s.stepBack());
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 0.2);
+    s.setStageEnabled(Stage::Interpenetration, true);
+    s.reset();
+    EXPECT_EQ(s.engine().bodies()[ball].restitution, 0.9) << "a reset loads the scene's own";
+}
+
+TEST(SessionContacts, ARestitutionOfZeroStopsTheBounce) {
+    Session bouncy{scenes().find("bouncing-balls")}, plastic{scenes().find("bouncing-balls")};
+    plastic.setRestitution(5, 0.0);
+    for (int i = 0; i < 150; ++i) bouncy.stepOnce(), plastic.stepOnce();  // 1.5 s: after the first bounce
+    EXPECT_GT(bouncy.engine().bodies()[5].position.y(), 1.0);
+    EXPECT_LT(plastic.engine().bodies()[5].position.y(), 0.31);
+}
+
+TEST(SceneShapes, TheBoxOfPlanesHasFourWallsAroundAFloor) {
+    Session s{scenes().find("balls-in-a-box")};
+    const auto& bodies = s.engine().bodies();
+    EXPECT_TRUE(isGround(bodies[0]));
+    const auto walls = wallPatches(bodies, s.bounds());
+    ASSERT_EQ(walls.size(), 4u);
+    for (const PlanePatch& w : walls) {
+        Bounds extent;
+        for (const Vec3& p : w.corners) extent.extend(p);
+        EXPECT_NEAR(extent.min().y(), 0.0, 1e-9) << "from the floor";
+        EXPECT_GT(extent.max().y(), 5.0) << "up to where the balls start";
+        // Across the wall: from one neighbouring wall to the other, 4 m.
+        const Vec3 size = extent.diagonal();
+        EXPECT_NEAR(std::max(size.x(), size.z()), 4.0, 1e-9);
+        EXPECT_NEAR(std::min(size.x(), size.z()), 0.0, 1e-9) << "flat";
+        // Counter-clockwise seen from the free side: the polygon's normal is the wall's.
+        const Vec3 n = (w.corners[1] - w.corners[0]).cross(w.corners[2] - w.corners[1]);
+        EXPECT_GT(n.dot(w.normal), 0.0);
+    }
+    const auto floor = enclosedGround(bodies);
+    ASSERT_TRUE(floor);
+    Bounds extent;
+    for (const Vec3& p : floor->corners) extent.extend(p);
+    EXPECT_TRUE(extent.min().isApprox(Vec3(-2.0, 0.0, -2.0), 1e-9));
+    EXPECT_TRUE(extent.max().isApprox(Vec3(2.0, 0.0, 2.0), 1e-9));
+}
+
+TEST(SceneShapes, TheBilliardTableHasLowCushionsAroundTheCloth) {
+    Session s{scenes().find("billiards")};
+    const auto walls = wallPatches(s.engine().bodies(), s.bounds());
+    ASSERT_EQ(walls.size(), 4u);
+    for (const PlanePatch& w : walls) {
+        for (const Vec3& p : w.corners) {
+            EXPECT_GE(p.y(), -1e-12);
+            EXPECT_LT(p.y(), 0.1) << "a cushion a few ball radii high, not a wall";
+            EXPECT_LE(std::abs(p.x()), 1.27 + 1e-9);
+            EXPECT_LE(std::abs(p.z()), 0.635 + 1e-9);
+        }
+    }
+    const auto cloth = enclosedGround(s.engine().bodies());
+    ASSERT_TRUE(cloth);
+    EXPECT_EQ(cloth->corners.size(), 4u);
+}
+
+TEST(SceneShapes, TheValleysSlopesMeetAtTheBottomAndNothingEnclosesAnOpenFloor) {
+    Session s{scenes().find("valley")};
+    const auto& bodies = s.engine().bodies();
+    EXPECT_FALSE(isGround(bodies[0])) << "tilted by 30 degrees";
+    const auto walls = wallPatches(bodies, s.bounds());
+    ASSERT_EQ(walls.size(), 4u);
+    for (const Vec3& p : walls[0].corners) EXPECT_LE(p.x(), 1e-9) << "the left slope stops at the bottom";
+    for (const Vec3& p : walls[1].corners) EXPECT_GE(p.x(), -1e-9) << "the right slope starts there";
+    for (const Vec3& p : walls[2].corners) {
+        EXPECT_GE(p.y(), 1.0 + std::abs(p.x()) * std::tan(M_PI / 6.0) - 1e-9) << "the back wall stands on the slopes";
+    }
+    EXPECT_FALSE(enclosedGround(bodies)) << "no ground";
+    Session heap{scenes().find("heap")};
+    EXPECT_TRUE(wallPatches(heap.engine().bodies(), heap.bounds()).empty());
+    EXPECT_FALSE(enclosedGround(heap.engine().bodies())) << "a floor open on every side";
+}
+
+TEST(SceneShapes, ARopeIsTautWhenItPulledOrIsAtItsFullLength) {
+    const std::vector<Body> bodies = {sphere("a", 0.1, 1.0), sphere("b", 0.1, 1.0).at({3.0, 0.0, 0.0})};
+    EXPECT_TRUE(ropeTaut(Rope{0, 1, 3.0}, bodies, {}));
+    EXPECT_TRUE(ropeTaut(Rope{0, 1, 3.001}, bodies, {})) << "a hair of slack counts as taut";
+    EXPECT_FALSE(ropeTaut(Rope{0, 1, 3.1}, bodies, {}));
+    Contact pulled = Contact::at(Vec3(1.5, 0.0, 0.0), Vec3(-1.0, 0.0, 0.0), 0.01);  // from b towards a
+    pulled.a = 0, pulled.b = 1;
+    EXPECT_TRUE(ropeTaut(Rope{0, 1, 3.1}, bodies, {pulled})) << "it pulled in the last step";
+    Contact touching = pulled;
+    touching.normal = Vec3(1.0, 0.0, 0.0);  // from a towards b: the two bodies touch, the rope did nothing
+    EXPECT_FALSE(ropeTaut(Rope{0, 1, 3.1}, bodies, {touching}));
+}
+
+TEST(SceneShapes, ASlackRopeSagsAndIsAsLongAsTheRope) {
+    const Vec3 a(0.0, 2.0, 0.0), b(3.0, 2.0, 0.0), down(0.0, -1.0, 0.0);
+    const auto straight = ropeCurve(a, b, 3.0, down, 8);
+    ASSERT_EQ(straight.size(), 9u);
+    for (const Vec3& p : straight) EXPECT_NEAR(p.y(), 2.0, 1e-12) << "at its full length";
+    for (double length : {3.2, 5.0, 30.0}) {
+        const auto slack = ropeCurve(a, b, length, down, 400);
+        double arc = 0.0;
+        for (std::size_t i = 1; i < slack.size(); ++i) arc += (slack[i] - slack[i - 1]).norm();
+        EXPECT_NEAR(arc, length, 1e-3 * length);
+        EXPECT_LT(slack[200].y(), 2.0) << "it sags down";
+        EXPECT_TRUE(slack.front().isApprox(a) && slack.back().isApprox(b));
+    }
+    const auto hanging = ropeCurve(a, a, 2.0, down, 2);
+    EXPECT_NEAR(hanging[1].y(), 1.0, 1e-12) << "both ends at one point: it hangs down, doubled";
+}
+
+TEST(SceneShapes, ANormalIsAsLongAsMostOfTheSmallerBody) {
+    const std::vector<Body> bodies = {plane("floor", Vec3::UnitY()), sphere("big", 1.0, 1.0),
+                                      sphere("small", 0.25, 1.0)};
+    Contact c;
+    c.a = 1, c.b = 0;
+    EXPECT_DOUBLE_EQ(normalLength(c, bodies), 0.8);
+    c.b = 2;
+    EXPECT_DOUBLE_EQ(normalLength(c, bodies), 0.2);
 }
 
 TEST(EnergySeries, KeepsTheLastSamples) {

@@ -1,0 +1,251 @@
+// Dear ImGui on top of the scene: the overlay, the side panel, the help and the tooltip.
+#include <imgui.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdio>
+
+#include "app_impl.h"
+
+namespace gpl::viewer {
+namespace {
+
+std::string vec(const Vec3& v, int precision = 3) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "(%.*f, %.*f, %.*f)", precision, v.x(), precision, v.y(), precision, v.z());
+    return buf;
+}
+
+}  // namespace
+
+void App::drawOverlay() {
+    const Scene& s = session_.scene();
+    const PhysicsEngine& e = session_.engine();
+    ImGui::SetNextWindowPos(ImVec2(10, 10));
+    ImGui::SetNextWindowBgAlpha(0.55f);
+    ImGui::Begin("overlay", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_AlwaysAutoResize |
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav);
+    ImGui::PushTextWrapPos(ImGui::GetFontSize() * 34.0f);
+    ImGui::Text("%s  %s", s.key.c_str(), s.name.c_str());
+    ImGui::TextWrapped("%s", s.description.c_str());
+    ImGui::PopTextWrapPos();
+    ImGui::Text("t = %.2f s   step %zu   h = %s s x %d   speed x%s%s", e.time(), e.stepCount(),
+                formatNumber(session_.tick()).c_str(), session_.substeps(), formatNumber(session_.speed()).c_str(),
+                session_.paused() ? "   PAUSED" : "");
+    ImGui::Text("%s   stages: %s   gravity %s   %.0f fps", integratorName(e.integratorKind()),
+                e.requiredStages().names().c_str(), session_.gravityOn() ? "on" : "off", ImGui::GetIO().Framerate);
+    if (!e.missingHooks().empty()) {
+        std::string hooks;
+        for (const auto& h : e.missingHooks()) hooks += (hooks.empty() ? "" : ", ") + h;
+        ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "not implemented: %s", hooks.c_str());
+    }
+    if (!session_.error().empty()) {
+        ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.3f, 1.0f), "%s", session_.error().c_str());
+    }
+    if (session_.ghostOn()) {
+        std::size_t worst = 0;
+        const double d = session_.ghostDifference(&worst);
+        ImGui::Text("reference ghost: largest difference %.4g m (%s)", d,
+                    worst < e.bodies().size() ? e.bodies()[worst].name.c_str() : "-");
+    }
+    if (!recording_.empty() && options_.frames == 0)
+        ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
+    if (!message_.empty() && SteadyClock::now() < messageUntil_) ImGui::Text("%s", message_.c_str());
+    ImGui::TextDisabled("h: help   Tab: panel");
+    ImGui::End();
+}
+
+void App::drawPanel() {
+    ImGui::SetNextWindowPos(ImVec2(static_cast<float>(width_) - kPanelWidth - 10.0f, 10.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidth, static_cast<float>(height_) - 20.0f), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    ImGui::Begin("Game Physics Lab", &panel_, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+    PhysicsEngine& e = session_.engine();
+
+    if (ImGui::BeginCombo("scene", (session_.scene().key + " " + session_.scene().name).c_str())) {
+        for (const Scene& s : scenes().all()) {
+            if (ImGui::Selectable((s.key + " " + s.name).c_str(), &s == &session_.scene())) loadScene(s.key);
+        }
+        ImGui::EndCombo();
+    }
+
+    if (ImGui::CollapsingHeader("Time", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (ImGui::Button(session_.paused() ? "resume" : "pause")) session_.togglePause();
+        ImGui::SameLine();
+        if (ImGui::Button("step")) session_.setPaused(true), session_.stepOnce();
+        ImGui::SameLine();
+        if (ImGui::Button("back")) session_.setPaused(true), session_.stepBack();
+        ImGui::SameLine();
+        if (ImGui::Button("reset")) session_.reset();
+        float speed = static_cast<float>(session_.speed());
+        if (ImGui::SliderFloat("speed", &speed, 1.0f / 64.0f, 8.0f, "x%.3g", ImGuiSliderFlags_Logarithmic)) {
+            session_.setSpeed(speed);
+        }
+        double tick = session_.tick();
+        if (ImGui::InputDouble("time step (s)", &tick, 0.0, 0.0, "%.5g", ImGuiInputTextFlags_EnterReturnsTrue)) {
+            try {
+                session_.setTick(tick);
+            } catch (const std::exception& ex) {
+                message(ex.what());
+            }
+        }
+        int substeps = session_.substeps();
+        if (ImGui::SliderInt("substeps", &substeps, 1, 16)) session_.setSubsteps(substeps);
+        ImGui::Text("history: %zu states, %.1f of %.0f MiB", session_.history().size(),
+                    session_.history().bytes() / 1048576.0, session_.history().budget() / 1048576.0);
+        if (session_.clock().dropped() > 0.0) {
+            ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "behind real time: %.2f s dropped",
+                               session_.clock().dropped());
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Physics", ImGuiTreeNodeFlags_DefaultOpen)) {
+        float g[3] = {static_cast<float>(e.gravity().x()), static_cast<float>(e.gravity().y()),
+                      static_cast<float>(e.gravity().z())};
+        if (ImGui::InputFloat3("gravity (m/s^2)", g, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue)) {
+            try {
+                session_.setGravity(Vec3(g[0], g[1], g[2]));
+            } catch (const std::exception& ex) {
+                message(ex.what());
+            }
+        }
+        if (ImGui::BeginCombo("integrator", integratorName(e.integratorKind()))) {
+            for (Integrator kind : kIntegrators) {
+                if (ImGui::Selectable(integratorName(kind), kind == e.integratorKind())) session_.setIntegrator(kind);
+            }
+            ImGui::EndCombo();
+        }
+        // The stages the scene requires, in the order a step runs them, each one can be switched off;
+        // the others in one line.
+        ImGui::Text("stages of a step (required by the scene):");
+        std::string others;
+        for (std::size_t i = 0; i < kStageCount; ++i) {
+            const auto stage = static_cast<Stage>(i);
+            if (!e.requiredStages().contains(stage)) {
+                others += (others.empty() ? "" : ", ") + std::string(stageName(stage));
+                continue;
+            }
+            bool on = e.stageEnabled(stage);
+            if (ImGui::Checkbox(stageName(stage), &on)) session_.setStageEnabled(stage, on);
+        }
+        if (!others.empty()) ImGui::TextWrapped("not required: %s", others.c_str());
+        if (!e.missingHooks().empty()) {
+            ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "hooks not implemented yet:");
+            for (const auto& h : e.missingHooks()) ImGui::BulletText("%s", h.c_str());
+        }
+    }
+
+    if ((e.requiredStages().contains(Stage::CollisionDetection) || e.requiredStages().contains(Stage::Ropes)) &&
+        ImGui::CollapsingHeader("Contacts", ImGuiTreeNodeFlags_DefaultOpen)) {
+        ImGui::Checkbox("show contacts (k)", &contacts_);
+        if (ImGui::IsItemHovered()) {
+            ImGui::SetTooltip(
+                "every point of every contact found in the last step, and its normal from the\n"
+                "first body towards the second (none after a step back: they are found in a step)");
+        }
+        double deepest = 0.0;
+        for (const Contact& c : e.contacts()) deepest = std::max(deepest, c.depth);
+        ImGui::Text("contacts of the last step: %zu", e.contacts().size());
+        if (!e.contacts().empty()) ImGui::Text("deepest overlap: %.3g mm", 1000.0 * deepest);
+        int iterations = e.contactIterations();
+        if (ImGui::SliderInt("iterations", &iterations, 1, Session::kMaxContactIterations, "%d",
+                             ImGuiSliderFlags_Logarithmic)) {
+            session_.setContactIterations(iterations);
+        }
+        if (ImGui::IsItemHovered()) ImGui::SetTooltip("sweeps over the contacts per step, for impulses and overlaps");
+    }
+
+    if (ImGui::CollapsingHeader("Selected body", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (const Body* b = session_.selectedBody()) {
+            ImGui::Text("%s (%s%s)", b->name.c_str(), shapeName(b->shape), b->isStatic() ? ", static" : "");
+            if (!b->isStatic()) ImGui::Text("mass %.4g kg", b->mass);
+            ImGui::Text("position %s m", vec(b->position).c_str());
+            ImGui::Text("velocity %s m/s", vec(b->velocity).c_str());
+            ImGui::Text("angular velocity %s rad/s", vec(b->angularVelocity).c_str());
+            ImGui::Text("kinetic %.4g J, potential %.4g J", kineticEnergy(*b), potentialEnergy(*b, e.gravity()));
+            float restitution = static_cast<float>(b->restitution);
+            if (ImGui::SliderFloat("restitution", &restitution, 0.0f, 1.0f, "%.2f")) {
+                session_.setRestitution(*session_.selected(), restitution);
+            }
+            if (ImGui::IsItemHovered()) {
+                ImGui::SetTooltip("0 plastic .. 1 elastic; a pair bounces with the product of its two");
+            }
+            if (ImGui::Button("remove")) session_.removeSelected();
+        } else {
+            ImGui::TextDisabled("click on a body");
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Energy", ImGuiTreeNodeFlags_DefaultOpen)) {
+        const EnergySeries& s = session_.energies();
+        const auto plot = [](const char* label, const std::deque<float>& values) {
+            std::vector<float> v(values.begin(), values.end());
+            if (v.empty()) return;
+            char overlay[48];
+            std::snprintf(overlay, sizeof overlay, "%.4g J", v.back());
+            ImGui::PlotLines(label, v.data(), static_cast<int>(v.size()), 0, overlay, FLT_MAX, FLT_MAX, ImVec2(0, 50));
+        };
+        plot("kinetic", s.kinetic);
+        plot("potential", s.potential);
+        plot("total", s.total);
+        const double drift = e.totalEnergy() - s.initialTotal;
+        ImGui::Text("drift since reset: %+.4g J (%+.3g %%)", drift,
+                    s.initialTotal != 0.0 ? 100.0 * drift / std::abs(s.initialTotal) : 0.0);
+    }
+
+    if (ImGui::CollapsingHeader("Reference ghost", ImGuiTreeNodeFlags_DefaultOpen)) {
+        if (!session_.ghostAvailable()) {
+            ImGui::TextDisabled("not in this build (needs solutions/)");
+        } else {
+            bool on = session_.ghostWanted();
+            if (ImGui::Checkbox("show the reference solution", &on)) {
+                session_.setGhost(on);
+                if (on) session_.reset();
+            }
+            if (session_.edited()) ImGui::TextDisabled("scene edited: reset (r) to compare again");
+        }
+    }
+
+    if (ImGui::CollapsingHeader("Camera and recording")) {
+        bool fly = camera_.flying();
+        if (ImGui::Checkbox("fly mode (WASD, QE)", &fly)) camera_.setFlying(fly);
+        if (ImGui::Button("reset camera")) frameScene();
+        if (ImGui::Button(recording_.empty() ? "record PNG frames" : "stop recording")) toggleRecording();
+    }
+    ImGui::End();
+}
+
+void App::drawHelp() {
+    ImGui::SetNextWindowPos(ImVec2(width_ * 0.5f, height_ * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("Keys and mouse", &help_, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
+    if (ImGui::BeginTable("bindings", 2, ImGuiTableFlags_RowBg)) {
+        for (const auto& [keys, what] : bindings()) {
+            ImGui::TableNextRow();
+            ImGui::TableSetColumnIndex(0);
+            ImGui::TextUnformatted(keys.c_str());
+            ImGui::TableSetColumnIndex(1);
+            ImGui::TextUnformatted(what.c_str());
+        }
+        ImGui::EndTable();
+    }
+    ImGui::End();
+}
+
+void App::drawTooltip() {
+    if (!hovered_ || mouseMode_ != MouseMode::None || ImGui::GetIO().WantCaptureMouse) return;
+    const auto& bodies = session_.engine().bodies();
+    if (*hovered_ >= bodies.size()) return;
+    const Body& b = bodies[*hovered_];
+    ImGui::BeginTooltip();
+    ImGui::Text("%s (%s%s)", b.name.c_str(), shapeName(b.shape), b.isStatic() ? ", static" : "");
+    if (!b.isStatic()) ImGui::Text("mass %.4g kg", b.mass);
+    ImGui::Text("x %s m", vec(b.position).c_str());
+    ImGui::Text("v %s m/s", vec(b.velocity).c_str());
+    ImGui::Text("w %s rad/s", vec(b.angularVelocity).c_str());
+    ImGui::Text("energy %.4g J", kineticEnergy(b) + potentialEnergy(b, session_.engine().gravity()));
+    ImGui::EndTooltip();
+}
+
+}  // namespace gpl::viewer
