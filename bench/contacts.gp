@@ -1,0 +1,116 @@
+# Plots of the contacts study. Run by ./lab bench contacts as
+#   gnuplot -e "dir='build/contacts'; ext='png'" bench/contacts.gp   (and ext='svg')
+# It reads the data files the study wrote to dir and writes pile-iterations.EXT, tunnelling.EXT,
+# resting-column.EXT and mass-ratio.EXT beside them. A figure whose data file is missing (its
+# experiment was skipped because a hook is not written yet) is left out.
+if (!exists("dir")) dir = 'build/contacts'
+if (!exists("ext")) ext = 'png'
+have(name) = system('test -s "'.dir.'/'.name.'" && echo 1 || echo 0') eq '1'
+terminal(width, height) = ext eq 'svg' ? sprintf("svg size %d,%d dynamic font 'sans,12'", width, height) \
+                                       : sprintf("pngcairo size %d,%d font 'sans,10'", width, height)
+set grid
+set logscale x 2
+
+# 1. Residual overlap and cost against the contact iterations on the pile.
+if (have('pile-iterations.dat')) {
+    eval 'set terminal '.terminal(800, 640)
+    set output dir.'/pile-iterations.'.ext
+    data = dir.'/pile-iterations.dat'
+    set title 'Contact iterations on a pile (balls-in-a-box): overlap left after the step, and cost'
+    set xlabel 'contact iterations (sweeps per stage)'
+    set ylabel 'overlap after the step (mm)'
+    set logscale y
+    set format y '10^{%L}'
+    set yrange [1e-16:1e3]
+    set y2label 'wall time per step (µs)'
+    set y2range [0:*]
+    set y2tics
+    set ytics nomirror
+    set key outside below maxrows 4
+    plot data index 0 using 1:3 with linespoints lw 2 lc 1 pt 7 title 'positions: mean of the contacts', \
+         data index 0 using 1:4 with linespoints lw 1 lc 1 pt 6 dashtype 2 title 'positions: largest contact', \
+         data index 0 using 1:5 with lines lw 2 lc 1 dashtype 4 title 'positions: largest of any pair', \
+         data index 1 using 1:3 with linespoints lw 2 lc 2 pt 5 title 'impulses: mean of the contacts', \
+         data index 1 using 1:4 with linespoints lw 1 lc 2 pt 4 dashtype 2 title 'impulses: largest contact', \
+         data index 1 using 1:5 with lines lw 2 lc 2 dashtype 4 title 'impulses: largest of any pair', \
+         data index 0 using 1:8 axes x1y2 with linespoints lc rgb 'gray40' pt 1 title 'positions: µs per step (right)', \
+         data index 1 using 1:8 axes x1y2 with linespoints lc rgb 'gray40' pt 2 dashtype 2 title 'impulses: µs per step (right)'
+    unset y2label
+    unset y2tics
+    set ytics mirror
+    unset yrange
+    set key default
+}
+
+# 2. The largest speed that does not tunnel against the time step, and the fraction of shots that tunnel.
+if (have('tunnelling-limit.dat')) {
+    eval 'set terminal '.terminal(1100, 480)
+    set output dir.'/tunnelling.'.ext
+    set multiplot layout 1,2 title 'Tunnelling: a ball shot head-on at a static sphere (64 start phases)'
+    data = dir.'/tunnelling-limit.dat'
+    set title 'Largest speed that never tunnels'
+    set xlabel 'time step h (s)'
+    set ylabel 'v_{max} (m/s)'
+    set logscale xy 10
+    set format x '10^{%L}'
+    set format y '10^{%L}'
+    set key right top
+    pairs = "'r_a = r_b = 1 cm' 'r_a = 1 cm, r_b = 10 cm' 'r_a = r_b = 10 cm' 'r_a = 10 cm, r_b = 1 m'"
+    plot for [i=0:3] data index i using 1:2 with points pt 7+i ps 1.3 lc i+1 title word(pairs, i+1), \
+         for [i=0:3] data index i using 1:4 with lines dashtype 2 lc i+1 notitle, \
+         1/0 with lines dashtype 2 lc rgb 'black' title '(r_a + r_b) / h'
+    set title 'Fraction of start phases that tunnel'
+    set xlabel 'step over reach, v h / (r_a + r_b)'
+    set ylabel 'fraction that tunnels'
+    unset logscale y
+    set format y '%g'
+    set yrange [0:1.05]
+    set key right center
+    plot 1 - 1/x > 0 ? 1 - 1/x : 0 with lines lc rgb 'black' title 'theory 1 - (r_a + r_b) / (v h)', \
+         dir.'/tunnel-fraction.dat' using 1:2 with points pt 7 ps 0.6 lc 1 title 'r_a = r_b = 5 cm, speeds 2.5..80 m/s', \
+         dir.'/fast-small.dat' using 1:2 with points pt 6 ps 1.6 lc 2 title 'radii 1 mm..1 m, speeds 1..1000 m/s'
+    unset multiplot
+    unset yrange
+    set logscale x 2
+    unset logscale y
+    set format x '%g'
+}
+
+# 3. Resting contact: the top sphere's jitter against the iterations, columns of 2, 3, 5 and 10.
+if (have('resting-column.dat')) {
+    eval 'set terminal '.terminal(800, 560)
+    set output dir.'/resting-column.'.ext
+    data = dir.'/resting-column.dat'
+    set title "A column of spheres resting on a plane, 10 s: jitter of the top sphere\n(left out where spheres passed through each other)"
+    set xlabel 'contact iterations'
+    set ylabel 'peak-to-peak height over the last 5 s (mm)'
+    set logscale y
+    set format y '10^{%L}'
+    set key left top
+    sizes = "2 3 5 10"
+    plot for [i=0:3] data index i using 1:($4 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 7 \
+             title 'positions, '.word(sizes, i+1).' spheres', \
+         for [i=0:3] data index i+4 using 1:($4 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 4 dashtype 2 \
+             title 'impulses, '.word(sizes, i+1).' spheres', \
+         9.81e-4 * 1e3 with lines lc rgb 'black' dashtype 3 title 'g h^2'
+    unset logscale y
+}
+
+# 4. Mass ratios: what one stage leaves against its sweeps, with theory rho^k.
+if (have('mass-ratio-stage.dat')) {
+    eval 'set terminal '.terminal(800, 560)
+    set output dir.'/mass-ratio.'.ext
+    data = dir.'/mass-ratio-stage.dat'
+    set title "A light sphere under a heavy one on a plane: one interpenetration stage\n(the impulse stage leaves the same fraction of the approach speed)"
+    set xlabel 'contact iterations k'
+    set ylabel 'overlap with the plane left / at the start'
+    set logscale y
+    set format y '10^{%L}'
+    set yrange [1e-12:2]
+    set key left bottom Left reverse
+    ratios = "1:1 1:10 1:100 1:1000"
+    plot for [i=0:3] data index i using 1:2 with points pt 7 ps 1.2 lc i+1 title 'bottom:top = '.word(ratios, i+1), \
+         for [i=0:3] data index i using 1:3 with lines dashtype 2 lc i+1 notitle, \
+         1/0 with lines dashtype 2 lc rgb 'black' title 'theory ρ^k, ρ = m_{top} / (m_{bottom} + m_{top})'
+}
+unset output
