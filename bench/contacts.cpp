@@ -184,10 +184,15 @@ double tunnelFraction(Response r, double ra, double rb, double v, double h, int 
     return static_cast<double>(through) / phases;
 }
 
-double theoreticalTunnelFraction(double ra, double rb, double v, double h, int phases) {
-    const double limit = 1.0 - (ra + rb) / (v * h);
+double theoreticalTunnelFraction(Response r, double ra, double rb, double v, double h, int phases) {
+    const double stride = v * h, reach = ra + rb;
     int through = 0;
-    for (int j = 0; j < phases; ++j) through += (j + 0.5) / phases < limit ? 1 : 0;
+    for (int j = 0; j < phases; ++j) {
+        const double phase = (j + 0.5) / phases;
+        const bool first = (1.0 - phase) * stride > reach;                       // past the centre at once
+        const bool second = r == Response::Positions && phase * stride > reach;  // the slower step after
+        through += first || second ? 1 : 0;
+    }
     return static_cast<double>(through) / phases;
 }
 
@@ -296,7 +301,7 @@ Extreme fastSmall(double radius, double speed, int phases) {
     x.radius = radius;
     x.speed = speed;
     x.stepOverR = speed * h / (2.0 * radius);
-    x.theoryFraction = theoreticalTunnelFraction(radius, radius, speed, h, phases);
+    x.theoryFraction = theoreticalTunnelFraction(Response::Impulses, radius, radius, speed, h, phases);
     int sphereThrough = 0, planeThrough = 0;
     try {
         for (int j = 0; j < phases; ++j) {

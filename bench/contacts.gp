@@ -60,17 +60,25 @@ if (have('tunnelling-limit.dat')) {
          for [i=0:3] data index i using 1:4 with lines dashtype 2 lc i+1 notitle, \
          1/0 with lines dashtype 2 lc rgb 'black' title '(r_a + r_b) / h'
     set title 'Fraction of start phases that tunnel'
-    set xlabel 'step over reach, v h / (r_a + r_b)'
+    set xlabel 'step over reach, v h / R   (R = r_a + r_b)'
     set ylabel 'fraction that tunnels'
     unset logscale y
     set format y '%g'
-    set yrange [0:1.05]
-    set key right center
-    plot 1 - 1/x > 0 ? 1 - 1/x : 0 with lines lc rgb 'black' title 'theory 1 - (r_a + r_b) / (v h)', \
-         dir.'/tunnel-fraction.dat' using 1:2 with points pt 7 ps 0.6 lc 1 title 'r_a = r_b = 5 cm, speeds 2.5..80 m/s', \
-         dir.'/fast-small.dat' using 1:2 with points pt 6 ps 1.6 lc 2 title 'radii 1 mm..1 m, speeds 1..1000 m/s'
+    set yrange [0:1.5]
+    set ytics 0, 0.2, 1
+    set samples 1000
+    set key left top Left reverse
+    impulses(x) = x > 1 ? 1 - 1/x : 0
+    positions(x) = x > 1 ? (2 * (1 - 1/x) < 1 ? 2 * (1 - 1/x) : 1) : 0
+    fraction = dir.'/tunnel-fraction.dat'
+    plot impulses(x) with lines lc 2 title 'impulses: 1 - R/(v h)', \
+         positions(x) with lines lc 1 title 'positions: min(1, 2 (1 - R/(v h)))', \
+         fraction index 1 using 1:2 with points pt 5 ps 0.5 lc 2 title 'impulses, R = 10 cm', \
+         fraction index 0 using 1:2 with points pt 7 ps 0.5 lc 1 title 'positions, R = 10 cm', \
+         dir.'/fast-small.dat' using 1:2 with points pt 6 ps 1.6 lc 2 title 'impulses, 1 mm..1 m, 1..1000 m/s'
     unset multiplot
     unset yrange
+    set ytics autofreq
     set logscale x 2
     unset logscale y
     set format x '%g'

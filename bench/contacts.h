@@ -64,14 +64,17 @@ bool tunnels(Response r, double ra, double rb, double v, double h, double phase)
 double tunnelFraction(Response r, double ra, double rb, double v, double h, int phases);
 /// Theory for tunnelFraction(): a shot is turned back only when a step ends with the ball's centre
 /// less than R = r_a + r_b short of the target's (a step that ends past the target's centre turns
-/// the contact normal forwards and sends the ball out on the far side), so it tunnels when the
-/// step v h jumps over that interval of length R: phase < 1 - R/(v h). The fraction of the
-/// discrete phases for which that holds.
-double theoreticalTunnelFraction(double ra, double rb, double v, double h, int phases);
+/// the contact normal forwards and sends the ball out on the far side). With stride s = v h and
+/// start phase p, the first step that reaches the target ends (1 - p) s beyond touching, so the
+/// shot tunnels when (1 - p) s > R. Impulses turn the ball back there; positions only take the
+/// overlap away and leave it the speed p v (Δx/h), so it tunnels also when that next step p s
+/// exceeds R. The fraction of the discrete phases for which that holds: for dense phases
+/// 1 - R/s (impulses) and min(1, 2 (1 - R/s)) (positions), above s = R.
+double theoreticalTunnelFraction(Response r, double ra, double rb, double v, double h, int phases);
 /// Largest speed (m/s) at which no start phase tunnels: bisection on the speed to 1e-9 relative.
 double largestSafeSpeed(Response r, double ra, double rb, double h, int phases);
-/// Theory for largestSafeSpeed(): the worst phase 1/(2 phases) tunnels from v h = R/(1 - 1/(2 phases));
-/// as the phases grow dense, v_max -> (r_a + r_b)/h.
+/// Theory for largestSafeSpeed(), either response: the worst phases, 1/(2 phases) from either end,
+/// tunnel from v h = R/(1 - 1/(2 phases)); as the phases grow dense, v_max -> (r_a + r_b)/h.
 double theoreticalSafeSpeed(double ra, double rb, double h, int phases);
 
 // ---- 3. Resting contact: jitter of a column against iterations ------------------------------------

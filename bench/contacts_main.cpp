@@ -8,6 +8,7 @@
 #include <functional>
 #include <iomanip>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "contacts.h"
@@ -53,6 +54,10 @@ private:
     std::filesystem::path dir_;
     std::vector<std::string> written_;
 };
+
+bool has(const std::vector<Response>& responses, Response r) {
+    return std::find(responses.begin(), responses.end(), r) != responses.end();
+}
 
 // The hooks of `needed` that are still stubs, as " a() b()"; empty when all are written.
 std::string missing(const std::vector<std::string>& needed, const std::vector<std::string>& open) {
@@ -168,31 +173,38 @@ void tunnellingLimit(Output& out, const std::vector<Response>& responses) {
 
 void tunnelFractions(Output& out, const std::vector<Response>& responses) {
     const double ra = 0.05, rb = 0.05, h = 0.01, reach = ra + rb;
-    const Response r = responses.back();  // impulses when they can run
     std::ofstream csv = out.open("tunnel-fraction.csv");
     csv << "response,v_h_over_reach,speed_m_s,measured,theory\n";
     std::ofstream dat = out.open("tunnel-fraction.dat");
-    dat << "# v h / (r_a + r_b), fraction of " << kPhases << " start phases that tunnel, theory ("
-        << study::responseName(r) << ")\n";
-    std::cout << "  " << study::responseName(r) << ":\n";
-    std::cout << "  " << pad("v h/R", 8) << pad("v (m/s)", 10) << pad("measured", 10) << "theory\n";
-    for (double x = 0.25; x <= 8.0 + 1e-9; x += 0.05) {
-        const double v = x * reach / h;
-        const double measured = study::tunnelFraction(r, ra, rb, v, h, kPhases);
-        const double theory = study::theoreticalTunnelFraction(ra, rb, v, h, kPhases);
-        csv << study::responseName(r) << ',' << x << ',' << v << ',' << measured << ',' << theory << '\n';
-        dat << x << ' ' << measured << ' ' << theory << '\n';
-        const int percent = static_cast<int>(std::lround(100 * x));
-        if (percent == 50 || percent == 100 || percent == 105 || percent == 150 || percent == 200 || percent == 400 ||
-            percent == 800) {
-            std::cout << "  " << pad(fixed(x, 2), 8) << pad(fixed(v, 1), 10) << pad(fixed(measured, 4), 10)
-                      << fixed(theory, 4) << '\n';
+    dat << "# one block per response (positions, impulses): v h / (r_a + r_b), fraction of " << kPhases
+        << " start phases that tunnel, theory\n";
+    std::vector<double> stepsOverReach;
+    for (int i = 5; i <= 160; ++i) stepsOverReach.push_back(0.05 * i);   // 0.25 .. 8
+    std::map<Response, std::map<int, std::pair<double, double>>> shown;  // by 100 v h / R: measured, theory
+    for (Response r : kResponses) {
+        dat << "# " << study::responseName(r) << '\n';
+        for (double x : stepsOverReach) {
+            if (!has(responses, r)) break;
+            const double v = x * reach / h;
+            const double measured = study::tunnelFraction(r, ra, rb, v, h, kPhases);
+            const double theory = study::theoreticalTunnelFraction(r, ra, rb, v, h, kPhases);
+            csv << study::responseName(r) << ',' << x << ',' << v << ',' << measured << ',' << theory << '\n';
+            dat << x << ' ' << measured << ' ' << theory << '\n';
+            shown[r][static_cast<int>(std::lround(100 * x))] = {measured, theory};
         }
+        dat << "\n\n";
     }
-}
-
-bool has(const std::vector<Response>& responses, Response r) {
-    return std::find(responses.begin(), responses.end(), r) != responses.end();
+    std::cout << "  " << pad("v h/R", 8) << pad("v (m/s)", 10);
+    for (Response r : responses) std::cout << pad(std::string(study::responseName(r)) + " (theory)", 22);
+    std::cout << '\n';
+    for (int percent : {50, 100, 105, 150, 200, 400, 800}) {
+        std::cout << "  " << pad(fixed(percent / 100.0, 2), 8) << pad(fixed(percent * reach / h / 100.0, 1), 10);
+        for (Response r : responses) {
+            const auto [measured, theory] = shown[r][percent];
+            std::cout << pad(fixed(measured, 4) + " (" + fixed(theory, 4) + ")", 22);
+        }
+        std::cout << '\n';
+    }
 }
 
 // A cell of the column tables: jitter / sink in mm, or "through" when spheres passed through each other.
@@ -391,8 +403,8 @@ int main(int argc, char** argv) {
                        std::to_string(2 * kPhases) + "))",
                    both, open, [&](const auto& rs) { tunnellingLimit(out, rs); });
         experiment(
-            "   fraction of start phases that tunnel against v h / (r_a + r_b) (r_a = r_b = 5 cm, h = 0.01 s); "
-            "theory 1 - (r_a + r_b)/(v h)",
+            "   fraction of start phases that tunnel against v h / R, R = r_a + r_b = 10 cm, h = 0.01 s; theory "
+            "1 - R/(v h) with impulses, min(1, 2 (1 - R/(v h))) with positions (the step after the push)",
             both, open, [&](const auto& rs) { tunnelFractions(out, rs); });
         experiment(
             "3. resting contact: a column of spheres (0.25 m, 1 kg, restitution 0) on a plane for 10 s, top "
