@@ -152,6 +152,7 @@ struct Shot {
 // would be as far beyond the target as it started short of it.
 Shot shoot(Response r, Target target, double ra, double rb, double v, double h, double phase) {
     PhysicsEngine e;
+    e.setGravity(Vec3::Zero());  // no gravity stage, and no gravity in the energy either
     e.setRequiredStages(contactStages(r, false));
     e.setTimeStep(h);
     const double reach = target == Target::Sphere ? ra + rb : ra, stride = v * h;
