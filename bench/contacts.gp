@@ -66,7 +66,7 @@ if (have('tunnelling-limit.dat')) {
     set format y '%g'
     set yrange [0:1.5]
     set ytics 0, 0.2, 1
-    set samples 1000
+    set samples 400
     set key left top Left reverse
     impulses(x) = x > 1 ? 1 - 1/x : 0
     positions(x) = x > 1 ? (2 * (1 - 1/x) < 1 ? 2 * (1 - 1/x) : 1) : 0
@@ -94,7 +94,8 @@ if (have('resting-column.dat')) {
     set ylabel 'peak-to-peak height over the last 5 s (mm)'
     set logscale y
     set format y '10^{%L}'
-    set key left top
+    set yrange [0.1:1e4]
+    set key left top Left reverse maxrows 4
     sizes = "2 3 5 10"
     plot for [i=0:3] data index i using 1:($4 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 7 \
              title 'positions, '.word(sizes, i+1).' spheres', \
@@ -102,6 +103,7 @@ if (have('resting-column.dat')) {
              title 'impulses, '.word(sizes, i+1).' spheres', \
          9.81e-4 * 1e3 with lines lc rgb 'black' dashtype 3 title 'g h^2'
     unset logscale y
+    unset yrange
 }
 
 # 4. Mass ratios: what one stage leaves against its sweeps, with theory rho^k.

@@ -178,19 +178,20 @@ void tunnelFractions(Output& out, const std::vector<Response>& responses) {
     std::ofstream dat = out.open("tunnel-fraction.dat");
     dat << "# one block per response (positions, impulses): v h / (r_a + r_b), fraction of " << kPhases
         << " start phases that tunnel, theory\n";
-    std::vector<double> stepsOverReach;
-    for (int i = 5; i <= 160; ++i) stepsOverReach.push_back(0.05 * i);   // 0.25 .. 8
-    std::map<Response, std::map<int, std::pair<double, double>>> shown;  // by 100 v h / R: measured, theory
+    std::vector<int> percents;  // 100 v h / R: fine steps up to 2.5, where the curves bend, coarse ones to 8
+    for (int p = 25; p <= 250; p += 5) percents.push_back(p);
+    for (int p = 260; p <= 800; p += 20) percents.push_back(p);
+    std::map<Response, std::map<int, std::pair<double, double>>> shown;  // by percent: measured, theory
     for (Response r : kResponses) {
         dat << "# " << study::responseName(r) << '\n';
-        for (double x : stepsOverReach) {
+        for (int percent : percents) {
             if (!has(responses, r)) break;
-            const double v = x * reach / h;
+            const double x = percent / 100.0, v = x * reach / h;
             const double measured = study::tunnelFraction(r, ra, rb, v, h, kPhases);
             const double theory = study::theoreticalTunnelFraction(r, ra, rb, v, h, kPhases);
             csv << study::responseName(r) << ',' << x << ',' << v << ',' << measured << ',' << theory << '\n';
             dat << x << ' ' << measured << ' ' << theory << '\n';
-            shown[r][static_cast<int>(std::lround(100 * x))] = {measured, theory};
+            shown[r][percent] = {measured, theory};
         }
         dat << "\n\n";
     }
