@@ -13,6 +13,7 @@
 
 #include "gpl/body.h"
 #include "gpl/engine.h"
+#include "report.h"
 #include "study.h"
 
 namespace {
@@ -20,41 +21,10 @@ namespace {
 using gpl::Integrator;
 using gpl::kIntegrators;
 namespace study = gpl::study;
-
-std::string sci(double x, int digits = 2) {
-    if (std::isnan(x)) return "-";
-    if (std::isinf(x)) return "blew up";
-    std::ostringstream out;
-    out << std::scientific << std::setprecision(digits) << x;
-    return out.str();
-}
-
-std::string fixed(double x, int digits) {
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(digits) << x;
-    return out.str();
-}
-
-std::string pad(const std::string& s, std::size_t width) {
-    return s.size() >= width ? s + " " : s + std::string(width - s.size(), ' ');
-}
-
-class Output {
-public:
-    explicit Output(std::filesystem::path dir) : dir_(std::move(dir)) { std::filesystem::create_directories(dir_); }
-    std::ofstream open(const std::string& name) {
-        std::ofstream f(dir_ / name);
-        if (!f) throw std::runtime_error("cannot write " + (dir_ / name).string());
-        f << std::setprecision(10);
-        written_.push_back(name);
-        return f;
-    }
-    const std::vector<std::string>& written() const { return written_; }
-
-private:
-    std::filesystem::path dir_;
-    std::vector<std::string> written_;
-};
+using study::fixed;
+using study::Output;
+using study::pad;
+using study::sci;
 
 struct Sweep {
     study::Problem problem;

@@ -1,6 +1,7 @@
 // gpl-bench-contacts: the speed-versus-accuracy study of contacts (./lab bench contacts). Prints
 // tables, writes CSV files and the data files that bench/contacts.gp turns into plots.
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -12,48 +13,20 @@
 #include <sstream>
 
 #include "contacts.h"
+#include "report.h"
 
 namespace {
 
 namespace study = gpl::study;
+using study::fixed;
+using study::Output;
+using study::pad;
 using study::Response;
+using study::sci;
 
 constexpr Response kResponses[] = {Response::Positions, Response::Impulses};
 constexpr int kIterations[] = {1, 2, 4, 8, 16, 32, 64};
 constexpr int kPhases = 64;  // start phases per speed in the tunnelling experiments
-
-std::string sci(double x, int digits = 2) {
-    std::ostringstream out;
-    out << std::scientific << std::setprecision(digits) << x;
-    return out.str();
-}
-
-std::string fixed(double x, int digits) {
-    std::ostringstream out;
-    out << std::fixed << std::setprecision(digits) << x;
-    return out.str();
-}
-
-std::string pad(const std::string& s, std::size_t width) {
-    return s.size() >= width ? s + " " : s + std::string(width - s.size(), ' ');
-}
-
-class Output {
-public:
-    explicit Output(std::filesystem::path dir) : dir_(std::move(dir)) { std::filesystem::create_directories(dir_); }
-    std::ofstream open(const std::string& name) {
-        std::ofstream f(dir_ / name);
-        if (!f) throw std::runtime_error("cannot write " + (dir_ / name).string());
-        f << std::setprecision(10);
-        written_.push_back(name);
-        return f;
-    }
-    const std::vector<std::string>& written() const { return written_; }
-
-private:
-    std::filesystem::path dir_;
-    std::vector<std::string> written_;
-};
 
 bool has(const std::vector<Response>& responses, Response r) {
     return std::find(responses.begin(), responses.end(), r) != responses.end();
@@ -103,7 +76,7 @@ void pile(Output& out, const std::vector<Response>& responses) {
            "mean_approach largest_approach us_per_step\n";
     for (Response r : kResponses) {
         dat << "# " << study::responseName(r) << '\n';
-        if (std::find(responses.begin(), responses.end(), r) == responses.end()) {
+        if (!has(responses, r)) {
             dat << "\n\n";
             continue;
         }
