@@ -79,8 +79,8 @@ double theoreticalSafeSpeed(double ra, double rb, double h, int phases);
 
 // ---- 3. Resting contact: jitter of a column against iterations ------------------------------------
 
-/// A column of n spheres (radius 0.25 m, 1 kg, restitution 0) resting exactly on a plane, stepped
-/// for 10 s at h = 0.01 s; the top sphere measured over the last 5 s.
+/// A column of spheres (restitution 0) placed exactly at rest on a plane, stepped at h = 0.01 s;
+/// the top sphere measured over the second half of the run.
 struct Column {
     int spheres = 0;
     int iterations = 0;
@@ -90,9 +90,10 @@ struct Column {
     double largestSpeed = 0.0;    ///< largest speed of any sphere (m/s)
     bool passedThrough = false;   ///< some sphere ended a step below the one under it: the column collapsed
 };
-/// masses: bottom to top, one per sphere (kg). radius (m) and seconds as given.
+/// masses: one per sphere, bottom to top (kg); radius (m) of every sphere; seconds simulated.
 Column restingColumn(Response r, const std::vector<double>& masses, int iterations, double radius = 0.25,
                      double seconds = 10.0);
+/// The study's columns: `spheres` spheres of 0.25 m and 1 kg for 10 s.
 Column restingColumn(Response r, int spheres, int iterations);
 
 // ---- 4. Mass ratios ------------------------------------------------------------------------------
