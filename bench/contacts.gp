@@ -21,7 +21,7 @@ if (have('pile-iterations.dat')) {
     set ylabel 'overlap after the step (mm)'
     set logscale y
     set format y '10^{%L}'
-    set yrange [1e-16:1e3]
+    set yrange [*:*]
     set y2label 'wall time per step (µs)'
     set y2range [0:*]
     set y2tics
@@ -84,22 +84,22 @@ if (have('tunnelling-limit.dat')) {
     set format x '%g'
 }
 
-# 3. Resting contact: the top sphere's jitter against the iterations, columns of 2, 3, 5 and 10.
+# 3. Resting contact: how far the top sphere of a column sinks against the iterations, columns of 2, 3, 5 and 10.
 if (have('resting-column.dat')) {
     eval 'set terminal '.terminal(800, 560)
     set output dir.'/resting-column.'.ext
     data = dir.'/resting-column.dat'
-    set title "A column of spheres resting on a plane, 10 s: jitter of the top sphere\n(left out where spheres passed through each other)"
+    set title "A column of spheres placed at rest on a plane, 10 s: how far the top sphere sinks\n(left out where spheres passed through each other)"
     set xlabel 'contact iterations'
-    set ylabel 'peak-to-peak height over the last 5 s (mm)'
+    set ylabel 'sink of the top sphere over the last 5 s (mm)'
     set logscale y
     set format y '10^{%L}'
-    set yrange [0.1:1e4]
+    set yrange [1e-6:1e5]
     set key left top Left reverse maxrows 4
     sizes = "2 3 5 10"
-    plot for [i=0:3] data index i using 1:($4 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 7 \
+    plot for [i=0:3] data index i using 1:($5 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 7 \
              title 'positions, '.word(sizes, i+1).' spheres', \
-         for [i=0:3] data index i+4 using 1:($4 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 4 dashtype 2 \
+         for [i=0:3] data index i+4 using 1:($5 != 0 ? 1/0 : $2) with linespoints lw 2 lc i+1 pt 4 dashtype 2 \
              title 'impulses, '.word(sizes, i+1).' spheres', \
          9.81e-4 * 1e3 with lines lc rgb 'black' dashtype 3 title 'g h^2'
     unset logscale y

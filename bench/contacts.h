@@ -44,12 +44,11 @@ struct PileRun {
     double foundDepth = 0.0;       ///< mean depth of those contacts as found, before the stages (m)
     double meanDepth = 0.0;        ///< mean overlap left in the step's contacts after the step (m)
     double largestDepth = 0.0;     ///< largest overlap left in one of the step's contacts (m)
-    /// Largest overlap of any pair after the step (m): also pairs that were apart when detection
-    /// ran and that the stage pushed into each other; the next step finds them.
+    /// Largest overlap of any pair after the step (m), whether among the step's contacts or not.
     double largestAnyPair = 0.0;
     double meanApproach = 0.0;     ///< mean approach speed left in the step's contacts (m/s; 0 when separating)
     double largestApproach = 0.0;  ///< largest approach speed left in one of them (m/s)
-    double nsPerStep = 0.0;        ///< median wall time of a whole step (ns); printed, never tested
+    double nsPerStep = 0.0;        ///< wall time of a whole step, median of the fastest of 3 rounds (ns); never tested
 };
 PileRun pileWithIterations(Response r, int iterations);
 
@@ -77,7 +76,7 @@ double largestSafeSpeed(Response r, double ra, double rb, double h, int phases);
 /// tunnel from v h = R/(1 - 1/(2 phases)); as the phases grow dense, v_max -> (r_a + r_b)/h.
 double theoreticalSafeSpeed(double ra, double rb, double h, int phases);
 
-// ---- 3. Resting contact: jitter of a column against iterations ------------------------------------
+// ---- 3. Resting contact: a column against iterations -----------------------------------------------
 
 /// A column of spheres (restitution 0) placed exactly at rest on a plane, stepped at h = 0.01 s;
 /// the top sphere measured over the second half of the run.
@@ -95,6 +94,10 @@ Column restingColumn(Response r, const std::vector<double>& masses, int iteratio
                      double seconds = 10.0);
 /// The study's columns: `spheres` spheres of 0.25 m and 1 kg for 10 s.
 Column restingColumn(Response r, int spheres, int iterations);
+/// Theory for the sink of a column of equal spheres with one sweep and positions only, at
+/// h = 0.01 s: working the sweep through from the floor up, the steady overlaps are (n - 1),
+/// (n - 2), ..., 0 times g h^2 from the floor to the top, so the top sinks g h^2 n (n - 1)/2 (m).
+double theoreticalOneSweepSink(int spheres);
 
 // ---- 4. Mass ratios ------------------------------------------------------------------------------
 
@@ -107,6 +110,13 @@ double twoSphereResidual(Response r, double bottom, double top, int iterations);
 /// rho = m_top / (m_bottom + m_top) of the correction with the plane, so the residual is
 /// rho^k times 2 mm (positions) or 1 m/s (impulses) after k sweeps.
 double theoreticalTwoSphereResidual(Response r, double bottom, double top, int iterations);
+/// Theory for a two-sphere stack resting on a plane (restingColumn() with masses {bottom, top}),
+/// h = 0.01 s, q = rho^k: the steady floor overlap, which is the top sphere's sink (m):
+/// q g h^2/(1 - q) with positions, q g h^2/(1 - q)^2 with impulses; and with impulses the speed
+/// the stack carries down at the end of every step, q g h/(1 - q) (m/s; 0 with positions). Valid
+/// while the overlap is small against the radius.
+double theoreticalStackSink(Response r, double bottom, double top, int iterations);
+double theoreticalStackSpeed(Response r, double bottom, double top, int iterations);
 
 // ---- 5. Very fast, very small ------------------------------------------------------------------
 

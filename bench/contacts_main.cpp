@@ -25,8 +25,8 @@ using study::Response;
 using study::sci;
 
 constexpr Response kResponses[] = {Response::Positions, Response::Impulses};
-constexpr int kIterations[] = {1, 2, 4, 8, 16, 32, 64};
-constexpr int kPhases = 64;  // start phases per speed in the tunnelling experiments
+constexpr int kIterations[] = {1, 2, 4, 8, 10, 16, 32, 64};  // 10: the engine's default
+constexpr int kPhases = 64;                                  // start phases per speed in the tunnelling experiments
 
 bool has(const std::vector<Response>& responses, Response r) {
     return std::find(responses.begin(), responses.end(), r) != responses.end();
@@ -181,18 +181,28 @@ void tunnelFractions(Output& out, const std::vector<Response>& responses) {
     }
 }
 
-// A cell of the column tables: jitter / sink in mm, or "through" when spheres passed through each other.
-std::string columnCell(const study::Column& c) {
-    if (c.passedThrough) return "through";
-    return fixed(1e3 * c.jitter, 2) + " / " + fixed(1e3 * c.sink, 2);
+// One table of the columns: a row per number of spheres, a cell per number of sweeps.
+void columnTable(const std::string& title, const std::vector<std::vector<study::Column>>& table,
+                 const std::function<std::string(const study::Column&)>& cell, bool oneSweepTheory) {
+    std::cout << "  " << title << "; 'through': spheres passed through each other\n";
+    std::cout << "  " << pad("spheres", 9);
+    for (int k : kIterations) std::cout << pad(std::to_string(k) + " it.", 10);
+    if (oneSweepTheory) std::cout << "theory 1 it.";
+    std::cout << '\n';
+    for (const auto& row : table) {
+        std::cout << "  " << pad(std::to_string(row.front().spheres), 9);
+        for (const study::Column& c : row) std::cout << pad(c.passedThrough ? "through" : cell(c), 10);
+        if (oneSweepTheory) std::cout << fixed(1e3 * study::theoreticalOneSweepSink(row.front().spheres), 2);
+        std::cout << '\n';
+    }
 }
 
 void columns(Output& out, const std::vector<Response>& responses) {
     std::ofstream csv = out.open("resting-column.csv");
     csv << "response,spheres,iterations,jitter_m,sink_m,largest_overlap_m,largest_speed_m_s,passed_through\n";
     std::ofstream dat = out.open("resting-column.dat");
-    dat << "# blocks: response (positions, impulses) x spheres (2, 3, 5, 10): iterations jitter_mm sink_mm "
-           "passed_through\n";
+    dat << "# blocks: response (positions, impulses) x spheres (2, 3, 5, 10): iterations sink_mm largest_speed "
+           "jitter_mm passed_through\n";
     for (Response r : kResponses) {
         std::vector<std::vector<study::Column>> table;
         for (int n = 1; n <= 10 && has(responses, r); ++n) {
@@ -208,23 +218,31 @@ void columns(Output& out, const std::vector<Response>& responses) {
             dat << "# " << study::responseName(r) << ", " << n << " spheres\n";
             if (!table.empty()) {
                 for (const study::Column& c : table[n - 1]) {
-                    dat << c.iterations << ' ' << 1e3 * c.jitter << ' ' << 1e3 * c.sink << ' ' << c.passedThrough
-                        << '\n';
+                    dat << c.iterations << ' ' << 1e3 * c.sink << ' ' << c.largestSpeed << ' ' << 1e3 * c.jitter << ' '
+                        << c.passedThrough << '\n';
                 }
             }
             dat << "\n\n";
         }
         if (table.empty()) continue;
-        std::cout << "  " << study::responseName(r)
-                  << ": jitter / sink of the top sphere (mm); 'through': spheres passed through each other\n";
-        std::cout << "  " << pad("spheres", 9);
-        for (int k : kIterations) std::cout << pad(std::to_string(k) + " it.", 15);
-        std::cout << '\n';
-        for (const auto& row : table) {
-            std::cout << "  " << pad(std::to_string(row.front().spheres), 9);
-            for (const study::Column& c : row) std::cout << pad(columnCell(c), 15);
-            std::cout << '\n';
+        const bool positions = r == Response::Positions;
+        columnTable(
+            std::string(study::responseName(r)) + ": sink of the top sphere (mm)", table,
+            [](const study::Column& c) { return fixed(1e3 * c.sink, 2); }, positions);
+        if (!positions) {
+            columnTable(
+                "impulses: largest speed of a sphere at the end of a step (m/s)", table,
+                [](const study::Column& c) { return sci(c.largestSpeed, 1); }, false);
         }
+        const study::Column* worst = &table.front().front();
+        for (const auto& row : table) {
+            for (const study::Column& c : row) {
+                if (!c.passedThrough && c.jitter > worst->jitter) worst = &c;
+            }
+        }
+        std::cout << "  " << study::responseName(r) << ": largest jitter (peak to peak of the top sphere) "
+                  << sci(1e3 * worst->jitter) << " mm, " << worst->spheres << " spheres, " << worst->iterations
+                  << " it.\n";
     }
 }
 
@@ -277,22 +295,28 @@ void massRatios(Output& out, const std::vector<Response>& responses) {
         }
     }
 
-    std::cout << "  two spheres (0.25 m) resting on a plane for 10 s, 10 iterations (the engine's default); top "
-                 "sphere over the last 5 s\n";
-    std::cout << "  " << pad("response", 11) << pad("bottom:top", 12) << pad("jitter (mm)", 13) << pad("sink (mm)", 11)
-              << pad("overlap (mm)", 14) << pad("speed (m/s)", 13) << "passed through\n";
+    std::cout << "  two spheres (0.25 m) resting on a plane for 10 s, 10 iterations (the engine's default); over the "
+                 "last 5 s; theory q g h^2/(1 - q) (positions), q g h^2/(1 - q)^2 and q g h/(1 - q) (impulses), "
+                 "q = rho^10\n";
+    std::cout << "  " << pad("response", 11) << pad("bottom:top", 12) << pad("sink (mm) (theory)", 24)
+              << pad("speed (m/s) (theory)", 24) << pad("jitter (mm)", 13) << "passed through\n";
     std::ofstream stack = out.open("mass-ratio-stack.csv");
-    stack
-        << "response,bottom_kg,top_kg,iterations,jitter_m,sink_m,largest_overlap_m,largest_speed_m_s,passed_through\n";
+    stack << "response,bottom_kg,top_kg,iterations,jitter_m,sink_m,theory_sink_m,largest_overlap_m,largest_speed_m_s,"
+             "theory_speed_m_s,passed_through\n";
     for (Response r : responses) {
         for (const auto& [bottom, top] : stacks) {
             const study::Column c = study::restingColumn(r, {bottom, top}, 10);
+            const double sink = study::theoreticalStackSink(r, bottom, top, 10);
+            const double speed = study::theoreticalStackSpeed(r, bottom, top, 10);
             stack << study::responseName(r) << ',' << bottom << ',' << top << ",10," << c.jitter << ',' << c.sink << ','
-                  << c.largestOverlap << ',' << c.largestSpeed << ',' << c.passedThrough << '\n';
+                  << sink << ',' << c.largestOverlap << ',' << c.largestSpeed << ',' << speed << ',' << c.passedThrough
+                  << '\n';
+            // The closed forms hold while the light sphere's centre stays above the plane (0.25 m).
+            const bool holds = sink < 0.25;
             std::cout << "  " << pad(study::responseName(r), 11) << pad(ratioName(bottom, top), 12)
-                      << pad(fixed(1e3 * c.jitter, 3), 13) << pad(fixed(1e3 * c.sink, 3), 11)
-                      << pad(fixed(1e3 * c.largestOverlap, 3), 14) << pad(sci(c.largestSpeed), 13)
-                      << (c.passedThrough ? "YES" : "no") << '\n';
+                      << pad(sci(1e3 * c.sink) + " (" + (holds ? sci(1e3 * sink) : std::string("too deep")) + ")", 24)
+                      << pad(sci(c.largestSpeed) + " (" + (holds ? sci(speed) : std::string("-")) + ")", 24)
+                      << pad(fixed(1e3 * c.jitter, 3), 13) << (c.passedThrough ? "YES" : "no") << '\n';
         }
     }
 }
@@ -381,8 +405,8 @@ int main(int argc, char** argv) {
             "1 - R/(v h) with impulses, min(1, 2 (1 - R/(v h))) with positions (the step after the push)",
             both, open, [&](const auto& rs) { tunnelFractions(out, rs); });
         experiment(
-            "3. resting contact: a column of spheres (0.25 m, 1 kg, restitution 0) on a plane for 10 s, top "
-            "sphere over the last 5 s",
+            "3. resting contact: a column of spheres (0.25 m, 1 kg, restitution 0) placed at rest on a plane, 10 s, "
+            "measured over the last 5 s",
             both, open, [&](const auto& rs) { columns(out, rs); });
         experiment("4. mass ratios 1:1 to 1:1000, heavy on light and light on heavy (masses bottom:top)", both, open,
                    [&](const auto& rs) { massRatios(out, rs); });
