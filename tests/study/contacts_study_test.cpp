@@ -95,19 +95,26 @@ TEST(ContactsStudy, StageResidualFallsLikeRhoToTheK) {
 
 TEST(ContactsStudy, ResidualOverlapOnThePileFallsWithIterations) {
     for (Response r : kResponses) {
-        double previous = INFINITY;
+        std::vector<PileRun> runs;
         for (int k : {1, 2, 4, 8, 16, 32, 64}) {
-            const PileRun p = pileWithIterations(r, k);
-            EXPECT_LT(p.meanDepth, previous) << responseName(r) << ", " << k << " iterations";
-            previous = p.meanDepth;
-            EXPECT_GT(p.contactsPerStep, 45.0) << "every ball rests on something";
+            runs.push_back(pileWithIterations(r, k));
+            EXPECT_GT(runs.back().contactsPerStep, 45.0) << "every ball rests on something";
+            // Interpenetration looks again in every sweep and hands the overlaps its moves create
+            // to contacts(): no pair overlaps after the step that is not among them.
+            EXPECT_EQ(runs.back().largestAnyPair, runs.back().largestDepth) << responseName(r) << ", " << k;
+            if (runs.size() > 1) {
+                EXPECT_LT(runs.back().meanDepth, runs[runs.size() - 2].meanDepth)
+                    << responseName(r) << ", " << k << " iterations";
+            }
         }
-        // 64 Gauss-Seidel sweeps: at least six orders of magnitude below what detection found.
-        const PileRun p = pileWithIterations(r, 64);
-        EXPECT_LT(p.meanDepth, 1e-6 * p.foundDepth) << responseName(r);
+        // Every sweep takes overlap away; a moving pile has no closed form, and tall stacks in it
+        // converge slowly (rho near 1), so ask for a factor 30 over 64 sweeps (the reference gives
+        // more than 100).
+        EXPECT_LT(runs.back().meanDepth, runs.front().meanDepth / 30.0) << responseName(r);
+        if (r == Response::Impulses) {
+            EXPECT_LT(runs.back().meanApproach, runs.front().meanApproach / 30.0);
+        }
     }
-    // With impulses, enough sweeps leave no contact approaching (the stage stops when none does).
-    EXPECT_EQ(pileWithIterations(Response::Impulses, 64).largestApproach, 0.0);
 }
 
 TEST(ContactsStudy, OneSphereRestsExactly) {
@@ -120,28 +127,53 @@ TEST(ContactsStudy, OneSphereRestsExactly) {
     }
 }
 
-TEST(ContactsStudy, TwoSphereColumnJittersByGHSquared) {
-    const double gh2 = 9.81 * 0.01 * 0.01;  // m
-    for (Response r : kResponses) {
-        const Column c = restingColumn(r, 2, 64);
-        // The contact vanishes once resolved, and the top sphere falls freely for one step: g h^2
-        // exactly, up to rounding and the last sweep's remainder (1e-6 relative).
-        EXPECT_NEAR(c.jitter, gh2, 1e-6 * gh2) << responseName(r);
-        EXPECT_GT(c.sink, 0.0) << responseName(r);
-        EXPECT_LT(c.sink, gh2) << responseName(r);
+TEST(ContactsStudy, OneSweepColumnSinksByTriangularNumbers) {
+    for (int n = 2; n <= 8; ++n) {
+        const Column c = restingColumn(Response::Positions, n, 1);
+        const double theory = theoreticalOneSweepSink(n);
+        // A tall column approaches its steady state slowly (one sweep lifts one contact a step):
+        // by 5 s its mean is within 1e-6 of it and what still moves is below 1e-3 of the sink.
+        EXPECT_NEAR(c.sink, theory, 1e-6 * theory) << n << " spheres";
+        EXPECT_LT(c.jitter, 1e-3 * theory) << n << " spheres";
     }
 }
 
-TEST(ContactsStudy, LightOnHeavyRestsLikeEqualMasses) {
-    const double gh2 = 9.81 * 0.01 * 0.01;  // m
+TEST(ContactsStudy, ColumnSinkFallsWithSweeps) {
     for (Response r : kResponses) {
-        for (double ratio : {10.0, 100.0, 1000.0}) {
-            // rho = 1/(1 + ratio): one sweep settles the pair, so the column only shows the g h^2
-            // of a contact that comes and goes (1e-6 relative, as above).
-            const Column c = restingColumn(r, {ratio, 1.0}, 10);
-            EXPECT_NEAR(c.jitter, gh2, 1e-6 * gh2) << responseName(r) << ", " << ratio << ":1";
-            EXPECT_FALSE(c.passedThrough);
+        double previous = INFINITY;
+        for (int k : {1, 2, 4, 8, 16, 32, 64}) {
+            const Column c = restingColumn(r, 6, k);
+            EXPECT_FALSE(c.passedThrough) << responseName(r) << ", " << k << " iterations";
+            EXPECT_LT(c.sink, previous) << responseName(r) << ", " << k << " iterations";
+            previous = c.sink;
         }
+    }
+}
+
+TEST(ContactsStudy, TwoSphereStackSettlesAtTheSteadyOverlap) {
+    struct Case {
+        double bottom, top;  // kg
+        int iterations;
+    } cases[] = {{1, 1, 1}, {1, 1, 2}, {1, 1, 4}, {1, 1, 10}, {1, 10, 10}, {1, 100, 10}, {1, 10, 30}};
+    for (Response r : kResponses) {
+        for (const Case& c : cases) {
+            const Column column = restingColumn(r, {c.bottom, c.top}, c.iterations);
+            const std::string where = std::string(responseName(r)) + ", " + formatNumber(c.bottom) + ":" +
+                                      formatNumber(c.top) + ", " + std::to_string(c.iterations) + " iterations";
+            const double sink = theoreticalStackSink(r, c.bottom, c.top, c.iterations);
+            // The steady state is reached within 5 s in every case here; 1e-4 relative covers the
+            // rest of the approach and rounding (1e-15 m at 0.5 m).
+            EXPECT_NEAR(column.sink, sink, 1e-4 * sink + 1e-14) << where;
+            EXPECT_LT(column.jitter, 1e-4 * sink + 1e-14) << where << ": a steady state does not move";
+            if (r == Response::Impulses) {
+                const double speed = theoreticalStackSpeed(r, c.bottom, c.top, c.iterations);
+                EXPECT_NEAR(column.largestSpeed, speed, 1e-4 * speed + 1e-14) << where;
+            }
+        }
+    }
+    // Light on heavy: one sweep all but settles the pair, nothing is left to sink.
+    for (Response r : kResponses) {
+        EXPECT_LT(restingColumn(r, {1000.0, 1.0}, 10).sink, 1e-12) << responseName(r);
     }
 }
 
