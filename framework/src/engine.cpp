@@ -330,7 +330,9 @@ double PhysicsEngine::kineticEnergy() const {
 
 double PhysicsEngine::potentialEnergy() const {
     double e = 0.0;
-    for (const Body& b : bodies_) e += gpl::potentialEnergy(b, gravity_);
+    if (stageActive(Stage::ConstantAcceleration)) {
+        for (const Body& b : bodies_) e += gpl::potentialEnergy(b, gravity_);
+    }
     for (const Spring& s : springs_) {
         e += springEnergy(bodies_[s.a].position, bodies_[s.b].position, s.stiffness, s.restLength);
     }

@@ -18,8 +18,10 @@ void writeRow(std::ostream& csv, const PhysicsEngine& e, const std::string& name
 void writeRows(std::ostream& csv, const PhysicsEngine& e) {
     double movableMass = 0.0;
     Vec3 weightedPosition = Vec3::Zero();
+    // Gravity's potential only while its stage acts, as in PhysicsEngine::potentialEnergy().
+    const Vec3 gravity = e.stageActive(Stage::ConstantAcceleration) ? e.gravity() : Vec3::Zero();
     for (const Body& b : e.bodies()) {
-        writeRow(csv, e, b.name, b.position, b.velocity, kineticEnergy(b), potentialEnergy(b, e.gravity()));
+        writeRow(csv, e, b.name, b.position, b.velocity, kineticEnergy(b), potentialEnergy(b, gravity));
         if (b.isStatic()) continue;
         movableMass += b.mass;
         weightedPosition += b.mass * b.position;

@@ -179,7 +179,8 @@ public:
 
     // ---- Diagnostics (world) --------------------------------------------------------------------
     double kineticEnergy() const;    ///< J
-    double potentialEnergy() const;  ///< J, gravitational (zero at the origin) plus the springs'
+    /// J: the springs' plus, while the gravity stage is active, the gravitational (zero at the origin).
+    double potentialEnergy() const;
     double totalEnergy() const;      ///< J
     Vec3 linearMomentum() const;     ///< kg m/s
     /// True when every body's position and velocity are finite.
