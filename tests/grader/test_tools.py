@@ -248,6 +248,16 @@ class Hooks(unittest.TestCase):
             if hooks.BEGIN in solution:
                 self.assertNotIn("b.position += h * b.velocity", student)
 
+    def test_mutants_keep_the_files_they_leave_alone_byte_for_byte(self):
+        # The build compiles only the files that differ from the reference's (cmake/Variants.cmake).
+        with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
+            hooks.write_mutants(tmp)
+            for m in hooks.load_mutants():
+                changed = {c["file"] for c in m["changes"]}
+                for name in hooks.hook_files():
+                    same = (pathlib.Path(tmp) / m["name"] / name).read_text() == (ROOT / "solutions" / name).read_text()
+                    self.assertEqual(same, name not in changed, f"{m['name']}: {name}")
+
     def test_every_mutant_changes_the_code_and_names_a_test(self):
         for m in hooks.load_mutants():
             self.assertTrue(m["changes"], m["name"])
