@@ -140,6 +140,9 @@ class Declarations(unittest.TestCase):
             status = grade.main(["selfcheck", "--binary", binary("solutions"), "--mutant", "explicit_euler"])
         self.assertEqual(status, 1)
         self.assertIn("WRONG: 'position updated with the old velocity (explicit Euler)' is not caught", out.getvalue())
+        # Graded on the named test's worksheet only.
+        self.assertIn("Worksheet1.OneStepIsSemiImplicitEuler", out.getvalue())
+        self.assertNotIn("Worksheet2.", out.getvalue())
 
 
 class HooksInTraces(unittest.TestCase):
