@@ -16,7 +16,8 @@ reports points, hints, Gradescope results.json and JUnit XML.
       writes a results.json with zero points that says why the grading could not run.
   grade.py selfcheck --binary AUTOGRADER (--expect full | --expect zero | --mutant NAME) [--worksheet N]
       the grader's own checks: the solutions score full marks, the stubs zero, and each seeded
-      mistake (tests/mutants/*.json) loses points in the test named for it, which fails on its own.
+      mistake (tests/mutants/*.json) loses points in the test named for it, which fails on its own
+      (graded on that test's worksheet unless --worksheet says otherwise).
 
 Exit status: 0 full marks, 1 points lost, 2 the grading itself could not run (a one-line error).
 
@@ -861,6 +862,17 @@ def cmd_report(args):
 
 
 def cmd_selfcheck(args):
+    spec = None
+    if args.mutant:
+        specs = {m["name"]: m for m in hooks.load_mutants()}
+        if args.mutant not in specs:
+            raise GradeError(f"unknown seeded mistake '{args.mutant}'; known: {', '.join(sorted(specs))}")
+        spec = specs[args.mutant]
+        named = next((t for t in manifest(args.binary) if t["name"] == spec["must_fail"]), None)
+        if named is None:
+            raise GradeError(f"seeded mistake '{args.mutant}' names the test {spec['must_fail']}, which does not exist")
+        if args.worksheet is None:
+            args.worksheet = named["worksheet"]  # the other worksheets' tests would only take time
     results = grade_binary(args.binary, args.worksheet, args.timeout)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
@@ -875,13 +887,10 @@ def cmd_selfcheck(args):
         print("OK: the untouched stubs score zero" if ok else
               f"WRONG: the untouched stubs earn points in {', '.join(passed)}: those tests cannot fail")
     else:
-        specs = {m["name"]: m for m in hooks.load_mutants()}
-        if args.mutant not in specs:
-            raise GradeError(f"unknown seeded mistake '{args.mutant}'; known: {', '.join(sorted(specs))}")
-        spec = specs[args.mutant]
         named = next((r for r in results if r["name"] == spec["must_fail"]), None)
         if named is None:
-            raise GradeError(f"seeded mistake '{args.mutant}' names the test {spec['must_fail']}, which does not exist")
+            raise GradeError(f"--worksheet {args.worksheet} leaves out {spec['must_fail']}, the test named for "
+                             f"seeded mistake '{args.mutant}'")
         # The named test must lose its points in the graded run (failed or not run) AND fail when run
         # on its own: a prerequisite catching the mistake must not hide a test that cannot.
         alone, output, _ = run_one(pathlib.Path(args.binary).resolve(), spec["must_fail"],

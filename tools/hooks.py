@@ -131,8 +131,11 @@ def write_mutants(outdir):
                     f"mutant {m['name']}: the text to replace occurs {text.count(change['from'])} times in "
                     f"solutions/{change['file']} (must be exactly once): {change['from']!r}")
             files[change["file"]] = text.replace(change["from"], change["to"])
+        changed = {change["file"] for change in m["changes"]}
         for f, text in files.items():
-            text = _solution_only(text)
+            # The files the mistake changes lose their markers; the others stay the reference's text
+            # byte for byte, so that the build reuses the reference's objects for them (Variants.cmake).
+            text = _solution_only(text) if f in changed else text
             path = target / f
             if not path.exists() or path.read_text() != text:
                 path.write_text(text)

@@ -140,6 +140,9 @@ class Declarations(unittest.TestCase):
             status = grade.main(["selfcheck", "--binary", binary("solutions"), "--mutant", "explicit_euler"])
         self.assertEqual(status, 1)
         self.assertIn("WRONG: 'position updated with the old velocity (explicit Euler)' is not caught", out.getvalue())
+        # Graded on the named test's worksheet only.
+        self.assertIn("Worksheet1.OneStepIsSemiImplicitEuler", out.getvalue())
+        self.assertNotIn("Worksheet2.", out.getvalue())
 
 
 class HooksInTraces(unittest.TestCase):
@@ -247,6 +250,16 @@ class Hooks(unittest.TestCase):
             self.assertNotIn(hooks.BEGIN, student)
             if hooks.BEGIN in solution:
                 self.assertNotIn("b.position += h * b.velocity", student)
+
+    def test_mutants_keep_the_files_they_leave_alone_byte_for_byte(self):
+        # The build compiles only the files that differ from the reference's (cmake/Variants.cmake).
+        with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
+            hooks.write_mutants(tmp)
+            for m in hooks.load_mutants():
+                changed = {c["file"] for c in m["changes"]}
+                for name in hooks.hook_files():
+                    same = (pathlib.Path(tmp) / m["name"] / name).read_text() == (ROOT / "solutions" / name).read_text()
+                    self.assertEqual(same, name not in changed, f"{m['name']}: {name}")
 
     def test_every_mutant_changes_the_code_and_names_a_test(self):
         for m in hooks.load_mutants():
