@@ -25,10 +25,10 @@ class Worksheet4 : public checks::ContactsTest {};
 struct Collision {
     Body a, b;
     Contact contact;
-    double approach;  // (v_b - v_a) . n before the impulse (m/s), < 0
+    double approach;  // (v_b - v_a) . n before the impulse (m/s): < 0 approaching, > 0 separating
 };
 
-// The velocities of the pair, as one text.
+// The pair and its contact, for messages.
 std::string pairText(const Collision& c) {
     return "\n  a: " + str(c.a) + "\n  b: " + str(c.b) + "\n  normal " + str(c.contact.normal) + ", restitution " +
            formatNumber(c.contact.restitution);
