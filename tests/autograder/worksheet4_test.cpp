@@ -25,10 +25,10 @@ class Worksheet4 : public checks::ContactsTest {};
 struct Collision {
     Body a, b;
     Contact contact;
-    double approach;  // (v_b - v_a) . n before the impulse (m/s), < 0
+    double approach;  // (v_b - v_a) . n before the impulse (m/s): < 0 approaching, > 0 separating
 };
 
-// The velocities of the pair, as one text.
+// The pair and its contact, for messages.
 std::string pairText(const Collision& c) {
     return "\n  a: " + str(c.a) + "\n  b: " + str(c.b) + "\n  normal " + str(c.contact.normal) + ", restitution " +
            formatNumber(c.contact.restitution);
@@ -69,6 +69,13 @@ double speedScale(const Collision& c) { return 1.0 + c.a.velocity.norm() + c.b.v
 // Restitutions for the impulse tests: the ends 0 and 1 and values between.
 double restitutionFor(Random& rnd, int i) { return i % 7 == 0 ? 0.0 : i % 7 == 1 ? 1.0 : rnd.uniform(0.0, 1.0); }
 
+// Doing nothing keeps momentum and tangential velocities and never pulls: tests of those also ask
+// that the impulse acted at all (on any pair), and leave how much to the other tests.
+bool acted(const Collision& now, const Collision& before) {
+    return now.a.velocity != before.a.velocity || now.b.velocity != before.b.velocity;
+}
+constexpr const char* kNeverActed = "the impulse never changed a velocity: applyCollisionImpulse() does nothing yet";
+
 // ---- applyCollisionImpulse() -------------------------------------------------------------------------
 
 GRADED_TEST(Worksheet4, ImpulseConservesMomentum, 3,
@@ -76,19 +83,20 @@ GRADED_TEST(Worksheet4, ImpulseConservesMomentum, 3,
             "m_a v_a + m_b v_b stays the same: change each velocity by the impulse times that body's inverse mass "
             "(worksheet 4, assignment 2).") {
     Random rnd(401);
+    int changes = 0;
     for (int i = 0; i < 300; ++i) {
         Collision c = randomCollision(rnd, restitutionFor(rnd, i));
         const Collision before = c;
         applyCollisionImpulse(c.contact, c.a, c.b);
+        changes += acted(c, before);
         const Vec3 p0 = before.a.mass * before.a.velocity + before.b.mass * before.b.velocity;
         const Vec3 p1 = c.a.mass * c.a.velocity + c.b.mass * c.b.velocity;
         // Relative to the momenta involved: rounding only (DESIGN: 1e-12).
         const double scale = before.a.mass * before.a.velocity.norm() + before.b.mass * before.b.velocity.norm();
         ASSERT_LE((p1 - p0).norm(), kRounding * scale)
             << "momentum " << str(p1) << " after the impulse, " << str(p0) << " before" << pairText(before);
-        ASSERT_GE(normalSpeed(c.contact, c.a, c.b), -kRounding * speedScale(before))
-            << "after the impulse the bodies still approach each other along the normal" << pairText(before);
     }
+    EXPECT_GT(changes, 0) << kNeverActed;
 }
 
 GRADED_TEST(Worksheet4, ImpulseReversesNormalVelocity, 3,
@@ -114,10 +122,12 @@ GRADED_TEST(Worksheet4, ImpulseKeepsTangentialVelocity, 2,
             "velocity across the normal stays as it was: change the velocities by multiples of n, computed from "
             "the normal part (v_b - v_a) . n of the relative velocity only.") {
     Random rnd(403);
+    int changes = 0;
     for (int i = 0; i < 300; ++i) {
         Collision c = randomCollision(rnd, restitutionFor(rnd, i));
         const Collision before = c;
         applyCollisionImpulse(c.contact, c.a, c.b);
+        changes += acted(c, before);
         const Vec3 n = c.contact.normal;
         for (const auto& [now, old] : {std::pair{&c.a, &before.a}, std::pair{&c.b, &before.b}}) {
             const Vec3 change = now->velocity - old->velocity;
@@ -125,9 +135,8 @@ GRADED_TEST(Worksheet4, ImpulseKeepsTangentialVelocity, 2,
                 << now->name << "'s velocity changed across the normal by " << str(change - change.dot(n) * n)
                 << pairText(before);
         }
-        ASSERT_GE(normalSpeed(c.contact, c.a, c.b) - before.approach, 0.5 * -before.approach)
-            << "the impulse hardly changed the normal velocity" << pairText(before);
     }
+    EXPECT_GT(changes, 0) << kNeverActed;
 }
 
 GRADED_TEST(Worksheet4, ImpulseEnergyLoss, 2,
@@ -154,23 +163,24 @@ GRADED_TEST(Worksheet4, ImpulseNothingWhenSeparating, 2,
             "applyCollisionImpulse(): bodies that already move apart along the normal, (v_b - v_a) . n >= 0, get "
             "no impulse at all (a contact never pulls): return before changing anything.") {
     Random rnd(405);
+    int changes = 0;
     for (int i = 0; i < 300; ++i) {
         const bool separating = i % 3 != 0;
         Collision c = randomCollision(rnd, restitutionFor(rnd, i), separating ? 1.0 : -1.0);
         if (i % 30 == 1) c.b.velocity = c.a.velocity;  // moving together: v_rel = 0 exactly, no impulse either
         const Collision before = c;
         applyCollisionImpulse(c.contact, c.a, c.b);
-        const double tol = kRounding * speedScale(before);
-        if (separating || i % 30 == 1) {
-            ASSERT_LE((c.a.velocity - before.a.velocity).norm() + (c.b.velocity - before.b.velocity).norm(), tol)
-                << "the bodies separate at " << normalSpeed(before.contact, before.a, before.b)
-                << " m/s along the normal, yet the impulse changed their velocities to " << str(c.a.velocity) << " and "
-                << str(c.b.velocity) << pairText(before);
-        } else {
-            ASSERT_GE(normalSpeed(c.contact, c.a, c.b), -tol)
-                << "bodies that approach must be stopped or sent apart" << pairText(before);
+        if (!separating && i % 30 != 1) {
+            changes += acted(c, before);
+            continue;
         }
+        ASSERT_LE((c.a.velocity - before.a.velocity).norm() + (c.b.velocity - before.b.velocity).norm(),
+                  kRounding * speedScale(before))
+            << "the bodies separate at " << normalSpeed(before.contact, before.a, before.b)
+            << " m/s along the normal, yet the impulse changed their velocities to " << str(c.a.velocity) << " and "
+            << str(c.b.velocity) << pairText(before);
     }
+    EXPECT_GT(changes, 0) << "no approaching pair got an impulse either: " << kNeverActed;
 }
 
 GRADED_TEST(Worksheet4, ImpulseAgainstStaticBody, 2,
