@@ -30,8 +30,8 @@ double largestOverlap(const PhysicsEngine& e) {
                 const Body& plane = p.shape == Shape::Plane ? p : q;
                 const Body& ball = p.shape == Shape::Plane ? q : p;
                 if (ball.shape != Shape::Sphere) continue;
-                const Vec3 n = plane.orientation * plane.normal;
-                worst = std::max(worst, ball.radius - n.dot(ball.position - plane.position));
+                const Vec3 up = plane.orientation * plane.normal;
+                worst = std::max(worst, ball.radius - up.dot(ball.position - plane.position));
             }
         }
     }
