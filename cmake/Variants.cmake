@@ -4,22 +4,30 @@
 file(STRINGS ${CMAKE_CURRENT_LIST_DIR}/hook_files.txt GPL_HOOK_FILES REGEX "^[^#]")
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/hook_files.txt)
 
-# gpl_add_variant(NAME DIR [REUSE OTHER] [COMPILE_OPTIONS OPTION...]): the library gpl_hooks_NAME
-# (link it to get the variant's hook objects) and the runner gpl-run-NAME. Each hook file is an
-# object library of its own; with REUSE, a file whose text equals variant OTHER's is not compiled
-# again but taken from OTHER (a seeded mistake changes one file: it compiles one file).
+# gpl_add_variant(NAME DIR [REUSE OTHER...] [COMPILE_OPTIONS OPTION...]): the library
+# gpl_hooks_NAME (link it to get the variant's hook objects) and the runner gpl-run-NAME. Each hook
+# file is an object library of its own; with REUSE, a file whose text equals that of one of the
+# variants OTHER is not compiled again but taken from it (a seeded mistake changes one file: it
+# compiles one file; a submission compiles only the files its student changed).
 function(gpl_add_variant name dir)
-  cmake_parse_arguments(PARSE_ARGV 2 arg "" "REUSE" "COMPILE_OPTIONS")
+  cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "REUSE;COMPILE_OPTIONS")
   set(objects)
   foreach(file IN LISTS GPL_HOOK_FILES)
     string(MAKE_C_IDENTIFIER ${file} id)
+    set(reused OFF)
     if(arg_REUSE)
       file(READ ${dir}/${file} mine)
-      file(READ ${GPL_VARIANT_DIR_${arg_REUSE}}/${file} theirs)
+    endif()
+    foreach(other IN LISTS arg_REUSE)
+      file(READ ${GPL_VARIANT_DIR_${other}}/${file} theirs)
       if(mine STREQUAL theirs)
-        list(APPEND objects $<TARGET_OBJECTS:gpl_hookfile_${arg_REUSE}_${id}>)
-        continue()
+        list(APPEND objects $<TARGET_OBJECTS:gpl_hookfile_${other}_${id}>)
+        set(reused ON)
+        break()
       endif()
+    endforeach()
+    if(reused)
+      continue()
     endif()
     add_library(gpl_hookfile_${name}_${id} OBJECT ${dir}/${file})
     target_link_libraries(gpl_hookfile_${name}_${id} PRIVATE gpl::framework)
