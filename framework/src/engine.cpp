@@ -206,6 +206,11 @@ void PhysicsEngine::setStageEnabled(Stage stage, bool on) {
 void PhysicsEngine::step() {
     contacts_.clear();
     nearPairs_.clear();
+    // The gravity stage sets the accumulators anew each step; switched off, they start empty
+    // instead, so that the springs' accelerations never pile up on last step's.
+    if (!stageActive(Stage::ConstantAcceleration)) {
+        for (Body& b : bodies_) b.acceleration = Vec3::Zero();
+    }
     simulationTimestep();
     time_ += timeStep_;
     ++steps_;

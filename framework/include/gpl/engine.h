@@ -127,8 +127,10 @@ public:
     void setConstraintIterations(int iterations);
 
     // ---- Time stepping ------------------------------------------------------------------------
-    /// One time step: runs simulationTimestep(), advances the clock and checks that every body is
-    /// still finite (throws SimulationError naming the body and the step otherwise).
+    /// One time step: empties the contacts (and the acceleration accumulators when the gravity
+    /// stage, which sets them, is not active), runs simulationTimestep(), advances the clock and
+    /// checks that every body is still finite (throws SimulationError naming the body and the step
+    /// otherwise).
     void step();
     double time() const { return time_; }  ///< simulated time (s)
     std::size_t stepCount() const { return steps_; }
