@@ -395,11 +395,16 @@ class Guard:
                 if p in now:  # what was written is kept aside, never lost
                     (stamp / rel).parent.mkdir(parents=True, exist_ok=True)
                     shutil.move(str(p), str(stamp / rel))
+                    del now[p]
                 if p in self.contents:
                     p.parent.mkdir(parents=True, exist_ok=True)
                     p.write_bytes(self.contents[p])
+                    st = p.stat()
+                    now[p] = (st.st_mtime_ns, st.st_size)
                 changed.append(str(rel))
-            self.files = self._scan()
+            # The next check compares with this scan (and what was put back), never with a later
+            # one: a test still running may write after the scan, and that must not go unseen.
+            self.files = now
             return changed
 
 
