@@ -6,6 +6,7 @@ reports points, hints, Gradescope results.json and JUnit XML.
                  [--json FILE] [--junit FILE] [--timeout S] [--hidden-visibility V]
       builds the variant (the student's assignments/ by default), grades it, prints the table.
   grade.py grade --build-dir DIR --batch DIR --out FILE.csv [--jobs N] [--worksheet N] [--timeout S]
+                [--similarity]
       grades every submission folder in DIR, in parallel, and writes a gradebook (one row per
       submission, one column per test, the total) and FILE-results/NAME/results.json for each.
   grade.py report --binary AUTOGRADER [--worksheet N] [--json FILE] [--junit FILE]
@@ -47,6 +48,7 @@ import xml.etree.ElementTree as ET
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 import hooks  # noqa: E402
+import similarity  # noqa: E402
 
 DEFAULT_TIMEOUT = 5.0         # s per test; the reference solution needs a few hundredths
 OUTPUT_CAP = 1 << 20          # bytes of output a test may print before it is stopped
@@ -683,6 +685,8 @@ def submission_build_dir(build_dir):
 def cmd_grade(args):
     if args.batch:
         return cmd_batch(args)
+    if args.similarity:
+        raise GradeError("--similarity goes with --batch")
     if args.out:
         raise GradeError("--out goes with --batch")
     check_writable(args.json)
@@ -779,6 +783,9 @@ def cmd_batch(args):
                          "--solutions, --json or --junit")
     if not args.out:
         raise GradeError("--batch needs --out FILE.csv (the gradebook)")
+    if args.similarity and shutil.which(similarity.SIM) is None:
+        raise GradeError("--similarity needs sim_c from the Debian package similarity-tester "
+                         "(./lab installs it; or: apt-get install similarity-tester)")
     batch = pathlib.Path(args.batch)
     if not batch.is_dir():
         raise GradeError(f"batch folder not found: {batch}")
@@ -831,6 +838,14 @@ def cmd_batch(args):
         list(pool.map(work, subs))
     progress.end()
     write_atomically(out, gradebook(subs))
+    if args.similarity:
+        staged = {s.name: sub_build / "submissions" / s.variant for s in subs if s.variant}
+        try:
+            rows = similarity.compare(staged, hooks.hook_files(), ROOT / "assignments")
+        except similarity.SimilarityError as e:
+            raise GradeError(str(e)) from None
+        similarity.write_csv(rows, out.parent / (out.stem + "-similarity.csv"))
+        print(similarity.summary(rows))
     full = sum(all(r["passed"] for r in s.results) for s in subs)
     print(f"graded {len(subs)} submissions in {time.monotonic() - start:.1f} s: {full} with full marks; "
           f"wrote {out} and {results_dir}/NAME/results.json")
@@ -940,6 +955,9 @@ def main(argv):
     which.add_argument("--batch", metavar="DIR", help="grade every submission folder in DIR")
     g.add_argument("--out", metavar="FILE.csv", help="the gradebook of --batch")
     g.add_argument("--jobs", type=int, help="submissions graded at once with --batch (default: one per core)")
+    g.add_argument("--similarity", action="store_true",
+                   help="with --batch: also compare the hook files across the batch (stub text left out) "
+                        "and write FILE-similarity.csv")
     g.add_argument("--json", metavar="FILE", help="write Gradescope results.json")
     g.add_argument("--junit", metavar="FILE", help="write JUnit XML")
 

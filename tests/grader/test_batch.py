@@ -72,7 +72,8 @@ class Batch(unittest.TestCase):
             cls.variant_of[sub.name] = variant
         cls.gradebook = cls.tmp / "grades.csv"
         start = time.monotonic()
-        cls.proc = subprocess.run([str(ROOT / "lab"), "grade", "--batch", str(cls.batch), "--out", str(cls.gradebook)],
+        cls.proc = subprocess.run([str(ROOT / "lab"), "grade", "--batch", str(cls.batch), "--out", str(cls.gradebook),
+                                   "--similarity"],
                                   capture_output=True, text=True, cwd=ROOT, timeout=550)
         cls.seconds = time.monotonic() - start
         print(f"\nbatch of {len(plan)} graded in {cls.seconds:.1f} s", file=sys.stderr)
@@ -152,6 +153,21 @@ class Batch(unittest.TestCase):
                     self.assertLess(float(row["total"]), float(row["max_score"]))
                 if variant.endswith("+notes"):
                     self.assertEqual(row["note"], "ignored: build/a.out notes.txt")
+
+    def test_similarity_pairs_the_copies_and_leaves_the_stubs_out(self):
+        with open(self.tmp / "grades-similarity.csv", newline="") as f:
+            rows = list(csv.DictReader(f))
+        percent = {(r["submission"], r["similar_to"], r["hook_file"]): int(r["percent"]) for r in rows}
+        copies = sorted(n for n, v in self.variant_of.items() if v.startswith("solutions"))
+        for hook in ("collision_impulse.cpp", "sphere_sphere.cpp", "integrator.cpp"):
+            self.assertGreaterEqual(percent.get((copies[0], copies[1], hook), 0), 90, hook)
+        # The stubs' text is left out, so untouched stubs share nothing with anyone.
+        stubs = {n for n, v in self.variant_of.items() if v == "assignments"}
+        self.assertFalse([r for r in rows if r["submission"] in stubs or r["similar_to"] in stubs])
+        # The half-done submission wrote integrator.cpp only; its other files are stubs.
+        half = {n for n, v in self.variant_of.items() if v == "half"}
+        self.assertEqual({r["hook_file"] for r in rows if r["submission"] in half}, {"integrator.cpp"})
+        self.assertIn("most similar", self.proc.stdout)
 
     def test_takes_reasonable_time(self):
         # 15 distinct variants compile once each (about 2.5 minutes on two idle cores); 50 x 56 tests

@@ -15,6 +15,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 import grade  # noqa: E402
 import hooks  # noqa: E402
+import similarity  # noqa: E402
 
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 
@@ -184,6 +185,58 @@ class GuardTest(unittest.TestCase):
             (root / "tests" / "a_test.cpp").unlink()
             self.assertEqual(guard.check(), ["tests/a_test.cpp"])
             self.assertEqual((root / "tests" / "a_test.cpp").read_text(), "original")
+
+
+class Similarity(unittest.TestCase):
+    """The batch's similarity report: copies found however renamed, the stubs' text never counted."""
+
+    def setUp(self):
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        self.tmp = pathlib.Path(tmp.name)
+
+    def submission(self, name, files):
+        folder = self.tmp / name
+        folder.mkdir()
+        for file, text in files.items():
+            (folder / file).write_text(text)
+        return folder
+
+    def test_copies_pair_up_and_stubs_do_not(self):
+        solution = (ROOT / "solutions" / "collision_impulse.cpp").read_text()
+        # A copy with every name changed and the layout squeezed: the same tokens apart from names.
+        renamed = solution.replace("approach", "vrel").replace("const double w ", "const double wsum ")
+        renamed = renamed.replace("(w == 0.0", "(wsum == 0.0").replace("/ w;", "/ wsum;").replace("    ", "  ")
+        # Another way to the same impulse: reduced mass and a velocity difference of its own.
+        other = (ROOT / "assignments" / "collision_impulse.cpp").read_text().replace(
+            '    kernelNotImplemented("applyCollisionImpulse()");\n',
+            "    const Vec3 dv = b.velocity - a.velocity;\n"
+            "    const double vn = dv.dot(contact.normal);\n"
+            "    if (vn >= 0.0 || a.isStatic() && b.isStatic()) return;\n"
+            "    const double mu = 1.0 / (a.invMass + b.invMass);\n"
+            "    const Vec3 impulse = -(1.0 + contact.restitution) * mu * vn * contact.normal;\n"
+            "    a.velocity = a.velocity - a.invMass * impulse;\n"
+            "    b.velocity = b.velocity + b.invMass * impulse;\n")
+        stub = (ROOT / "assignments" / "collision_impulse.cpp").read_text()
+        subs = {"ann": self.submission("ann", {"collision_impulse.cpp": solution}),
+                "bob": self.submission("bob", {"collision_impulse.cpp": renamed}),
+                "cat": self.submission("cat", {"collision_impulse.cpp": other}),
+                "dan": self.submission("dan", {"collision_impulse.cpp": stub}),
+                "eve": self.submission("eve", {"collision_impulse.cpp": stub})}
+        rows = similarity.compare(subs, ["collision_impulse.cpp", "integrator.cpp"], ROOT / "assignments")
+        pairs = {(a, b): percent for percent, a, b, _ in rows}
+        self.assertGreaterEqual(pairs.get(("ann", "bob"), 0), 90, rows)
+        self.assertGreaterEqual(pairs.get(("bob", "ann"), 0), 90, rows)
+        self.assertEqual(rows[0][1:3] in {("ann", "bob"), ("bob", "ann")}, True, rows)
+        # Two untouched stubs share the whole stub, which is left out: they never pair.
+        self.assertFalse([r for r in rows if "dan" in r[1:3] or "eve" in r[1:3]], rows)
+        self.assertTrue(all(percent >= 20 for percent, *_ in rows))
+        self.assertIn("ann in bob", similarity.summary(rows))
+
+    def test_nothing_to_compare(self):
+        subs = {"only": self.submission("only", {"integrator.cpp": "int x;\n"})}
+        self.assertEqual(similarity.compare(subs, ["integrator.cpp"], ROOT / "assignments"), [])
+        self.assertIn("no pair", similarity.summary([]))
 
 
 class CommandLine(unittest.TestCase):
