@@ -37,10 +37,10 @@ HIDDEN_OPTION = "grading::hidden()"
 # minus what EXCLUDED names). Anything new must be added here to reach students.
 RELEASED = ["README.md", "lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".gitignore",
             "cmake", "framework", "bench", "worksheets", "tests/CMakeLists.txt", "tests/framework", "tests/autograder",
-            "tools/grade.py", "tools/hooks.py", "tools/similarity.py"]
+            "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
 # The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
 GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
-              "tests/framework", "tests/autograder", "tools/grade.py", "tools/hooks.py", "tools/similarity.py"]
+              "tests/framework", "tests/autograder", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
 EXCLUDED = {"worksheets/instructor", "__pycache__"}
 
 

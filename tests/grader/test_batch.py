@@ -18,7 +18,7 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
-import grade  # noqa: E402
+from grading import running  # noqa: E402
 import hooks  # noqa: E402
 
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
@@ -98,7 +98,7 @@ class Batch(unittest.TestCase):
     def test_gradebook_has_one_row_per_submission_and_a_column_per_test(self):
         rows = self.rows()
         self.assertEqual([r["submission"] for r in rows], sorted(self.variant_of))
-        tests = [t["name"] for t in grade.manifest(autograder("solutions"))]
+        tests = [t["name"] for t in running.manifest(autograder("solutions"))]
         with open(self.gradebook, newline="") as f:
             header = next(csv.reader(f))
         self.assertEqual(header, ["submission", *tests, "total", "max_score", "note"])
@@ -123,7 +123,7 @@ class Batch(unittest.TestCase):
                 continue
             if variant not in oracle:
                 oracle[variant] = {r["name"]: (r["score"], r["passed"], r.get("not_run", False))
-                                   for r in grade.grade_binary(autograder(variant))}
+                                   for r in running.grade_binary(autograder(variant))}
             with self.subTest(submission=row["submission"], variant=variant):
                 results = {t["name"]: t for t in self.results(row["submission"])["tests"]}
                 for name, (score, passed, not_run) in oracle[variant].items():

@@ -8,7 +8,6 @@ import hashlib
 import json
 import os
 import pathlib
-import re
 import shutil
 import subprocess
 import sys
@@ -17,7 +16,7 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
-import grade  # noqa: E402
+from grading import running  # noqa: E402
 import hooks  # noqa: E402
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 SOLUTION = (ROOT / "solutions" / "integrator.cpp").read_text()
@@ -97,7 +96,7 @@ EXPECTED = {
 
 # Tests of later worksheets that step the engine depend on worksheet 1's free fall (the integrator
 # and the time step): where that loses its points, they are not run.
-STEPPING = [t["name"] for t in grade.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
+STEPPING = [t["name"] for t in running.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
             if "Worksheet1.MatchesDiscreteFreeFall" in t["depends_on"]]
 for expected in EXPECTED.values():
     if "Worksheet1.MatchesDiscreteFreeFall" in expected:

@@ -13,7 +13,7 @@ import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
-import grade  # noqa: E402
+from grading import running  # noqa: E402
 import hooks  # noqa: E402
 
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
@@ -44,7 +44,7 @@ def solution_code():
 
 def hidden_tests():
     binary = pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions"
-    hidden = [t for t in grade.manifest(binary) if t["hidden"]]
+    hidden = [t for t in running.manifest(binary) if t["hidden"]]
     assert hidden, "there is at least one hidden test"
     return hidden
 
@@ -114,7 +114,7 @@ class StudentRelease(unittest.TestCase):
         self.assertEqual(graded.returncode, 1, graded.stdout + graded.stderr)
         data = json.loads(results.read_text())
         self.assertEqual(data["score"], 0)
-        public = [t for t in grade.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
+        public = [t for t in running.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
                   if not t["hidden"]]
         self.assertEqual([t["name"] for t in data["tests"]], [t["name"] for t in public])
         self.assertEqual(data["max_score"], sum(t["points"] for t in public))
@@ -196,7 +196,7 @@ class GradescopeAutograder(unittest.TestCase):
         self.assertEqual({t["name"] for t in data["tests"] if t["visibility"] == "after_published"}, hidden)
         self.assertTrue(all(t["visibility"] == "visible" for t in data["tests"] if t["name"] not in hidden))
         self.assertEqual(data["stdout_visibility"], "hidden", "the printout names hidden tests")
-        self.assertEqual(data["max_score"], sum(t["points"] for t in grade.manifest(
+        self.assertEqual(data["max_score"], sum(t["points"] for t in running.manifest(
             pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")))
 
     def test_a_whole_repository_with_a_mistake(self):

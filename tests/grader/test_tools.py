@@ -14,6 +14,10 @@ import xml.etree.ElementTree as ET
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 import grade  # noqa: E402
+from grading import building  # noqa: E402
+from grading.guard import Guard  # noqa: E402
+from grading import reports  # noqa: E402
+from grading import running  # noqa: E402
 import hooks  # noqa: E402
 import similarity  # noqa: E402
 
@@ -29,25 +33,25 @@ def binary(variant):
 
 class RunLimited(unittest.TestCase):
     def test_a_loop_is_stopped_at_the_time_limit(self):
-        rc, _, why = grade.run_limited(["sh", "-c", "while :; do :; done"], timeout=0.5)
+        rc, _, why = running.run_limited(["sh", "-c", "while :; do :; done"], timeout=0.5)
         self.assertEqual(why, "timeout")
         self.assertLess(rc, 0)
 
     def test_endless_output_is_stopped_at_the_cap(self):
-        rc, out, why = grade.run_limited(["yes"], timeout=20, cap=4096)
+        rc, out, why = running.run_limited(["yes"], timeout=20, cap=4096)
         self.assertEqual(why, "output")
         self.assertEqual(len(out), 4096)
 
     def test_a_normal_command_reports_its_exit_status(self):
-        rc, out, why = grade.run_limited(["sh", "-c", "echo hello; exit 3"], timeout=10)
+        rc, out, why = running.run_limited(["sh", "-c", "echo hello; exit 3"], timeout=10)
         self.assertEqual((rc, out.strip(), why), (3, "hello", None))
 
 
 class Reports(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.solutions = grade.grade_binary(binary("solutions"), worksheet=1)
-        cls.stubs = grade.grade_binary(binary("assignments"), worksheet=1)
+        cls.solutions = running.grade_binary(binary("solutions"), worksheet=1)
+        cls.stubs = running.grade_binary(binary("assignments"), worksheet=1)
 
     def test_every_graded_test_has_points_and_a_hint(self):
         for r in self.solutions:
@@ -60,8 +64,8 @@ class Reports(unittest.TestCase):
         with tempfile.TemporaryDirectory() as tmp:
             for results, expected_score in ((self.solutions, None), (self.stubs, 0)):
                 path = pathlib.Path(tmp) / "results.json"
-                data = grade.gradescope(results, 1.5)
-                grade.write_atomically(path, json.dumps(data))
+                data = reports.gradescope(results, 1.5)
+                reports.write_atomically(path, json.dumps(data))
                 proc = subprocess.run([sys.executable, str(CHECK_GRADESCOPE), str(path)], capture_output=True, text=True)
                 self.assertEqual(proc.returncode, 0, proc.stdout)
                 self.assertEqual(data["max_score"], sum(r["points"] for r in results))
@@ -74,7 +78,7 @@ class Reports(unittest.TestCase):
                     self.assertEqual(data["score"], data["max_score"])
 
     def test_junit_counts_failures(self):
-        tree = ET.fromstring(grade.junit(self.stubs, "stubs"))
+        tree = ET.fromstring(reports.junit(self.stubs, "stubs"))
         suite = tree.find("testsuite")
         self.assertEqual(suite.get("name"), "worksheet1")
         not_run = sum(r["not_run"] for r in self.stubs)
@@ -83,11 +87,11 @@ class Reports(unittest.TestCase):
         self.assertEqual(int(suite.get("skipped")), not_run)
         self.assertEqual(len(suite.findall("testcase/failure")), len(self.stubs) - not_run)
         self.assertEqual(len(suite.findall("testcase/skipped")), not_run)
-        tree = ET.fromstring(grade.junit(self.solutions, "solutions"))
+        tree = ET.fromstring(reports.junit(self.solutions, "solutions"))
         self.assertEqual(tree.find("testsuite").get("failures"), "0")
 
     def test_table_ends_with_the_count_line(self):
-        text = grade.table(self.stubs, "stubs")
+        text = reports.table(self.stubs, "stubs")
         self.assertTrue(text.splitlines()[-1].startswith(f"0 passed, {len(self.stubs)} failed"))
         self.assertIn("hint:", text)
 
@@ -97,7 +101,7 @@ class Reports(unittest.TestCase):
         self.assertTrue(all(r["output"].startswith("hooks still not implemented") for r in open_hooks))
 
     def test_unknown_test_name_is_a_failure_not_a_pass(self):
-        passed, output, _ = grade.run_one(pathlib.Path(binary("solutions")).resolve(), "Worksheet1.NoSuchTest", 10)
+        passed, output, _ = running.run_one(pathlib.Path(binary("solutions")).resolve(), "Worksheet1.NoSuchTest", 10)
         self.assertFalse(passed)
         self.assertIn("not found", output)
 
@@ -106,30 +110,30 @@ class Declarations(unittest.TestCase):
     def test_prerequisites_come_first_and_circles_are_refused(self):
         tests = [{"name": "S.C", "depends_on": ["S.B"]}, {"name": "S.A", "depends_on": []},
                  {"name": "S.B", "depends_on": ["S.A"]}]
-        self.assertEqual([t["name"] for t in grade.in_dependency_order(tests)], ["S.A", "S.B", "S.C"])
+        self.assertEqual([t["name"] for t in running.in_dependency_order(tests)], ["S.A", "S.B", "S.C"])
         tests[1]["depends_on"] = ["S.C"]
         with self.assertRaisesRegex(grade.GradeError, "circle: S.C -> S.B -> S.A -> S.C"):
-            grade.in_dependency_order(tests)
+            running.in_dependency_order(tests)
         with self.assertRaisesRegex(grade.GradeError, "S.A depends on S.X, which is not a graded test"):
-            grade.in_dependency_order([{"name": "S.A", "depends_on": ["S.X"]}])
+            running.in_dependency_order([{"name": "S.A", "depends_on": ["S.X"]}])
 
     def test_manifest_declares_limits_prerequisites_and_hidden_tests(self):
-        tests = {t["name"]: t for t in grade.manifest(binary("solutions"))}
+        tests = {t["name"]: t for t in running.manifest(binary("solutions"))}
         self.assertIn("Worksheet1.GravityPointsDown", tests["Worksheet1.EnergyNeverIncreases"]["depends_on"])
         self.assertTrue(any(t["hidden"] for t in tests.values()))
         self.assertTrue(all(t["time_limit"] >= 0 for t in tests.values()))
 
     def test_stubs_report_not_run_with_the_prerequisite(self):
-        stubs = {r["name"]: r for r in grade.grade_binary(binary("assignments"), worksheet=1)}
+        stubs = {r["name"]: r for r in running.grade_binary(binary("assignments"), worksheet=1)}
         energy = stubs["Worksheet1.EnergyNeverIncreases"]
         self.assertTrue(energy["not_run"])
         self.assertEqual(energy["score"], 0)
         self.assertTrue(energy["output"].startswith("not run: depends on Worksheet1.GravityPointsDown"))
 
     def test_hidden_tests_visibility_is_configurable(self):
-        results = grade.grade_binary(binary("solutions"))
+        results = running.grade_binary(binary("solutions"))
         for visibility in ("hidden", "after_published"):
-            data = grade.gradescope(results, 1.0, visibility)
+            data = reports.gradescope(results, 1.0, visibility)
             hidden = [t for t, r in zip(data["tests"], results) if r["hidden"]]
             self.assertTrue(hidden)
             self.assertTrue(all(t["visibility"] == visibility for t in hidden))
@@ -153,13 +157,13 @@ class HooksInTraces(unittest.TestCase):
                  "./autograder(_ZN3gpl13PhysicsEngine10integratorEv+0x2a)[0x56]\n"
                  "./autograder(_ZN3gpl13PhysicsEngine18simulationTimestepEv+0x10)[0x57]\n"
                  "./autograder(_ZN3gpl13PhysicsEngine4stepEv+0x10)[0x58]\n")
-        self.assertEqual(grade.hook_in_trace(trace), "integrator()")
-        self.assertIsNone(grade.hook_in_trace("./autograder(_ZN3gpl13PhysicsEngine4stepEv+0x10)[0x58]\n"))
+        self.assertEqual(running.hook_in_trace(trace), "integrator()")
+        self.assertIsNone(running.hook_in_trace("./autograder(_ZN3gpl13PhysicsEngine4stepEv+0x10)[0x58]\n"))
 
     def test_a_failed_assert_names_its_function(self):
         output = ("autograder: /x/integrator.cpp:25: void gpl::PhysicsEngine::integrator(): "
                   "Assertion `isFinite(b.position)' failed.")
-        self.assertEqual(grade.hook_in_trace("", output), "integrator()")
+        self.assertEqual(running.hook_in_trace("", output), "integrator()")
 
 
 class GuardTest(unittest.TestCase):
@@ -169,7 +173,7 @@ class GuardTest(unittest.TestCase):
             (root / "tests").mkdir(parents=True)
             (root / "worksheets").mkdir()
             (root / "tests" / "a_test.cpp").write_text("original")
-            guard = grade.Guard(root, pathlib.Path(tmp) / "quarantine")
+            guard = Guard(root, pathlib.Path(tmp) / "quarantine")
             self.assertEqual(guard.check(), [])
             (root / "tests" / "a_test.cpp").write_text("weakened")
             (root / "tests" / "new.cpp").write_text("injected")
@@ -262,22 +266,22 @@ class Files(unittest.TestCase):
     def test_write_atomically_refuses_a_missing_folder_and_leaves_nothing(self):
         with tempfile.TemporaryDirectory() as tmp:
             with self.assertRaises(grade.GradeError):
-                grade.write_atomically(pathlib.Path(tmp) / "nope" / "results.json", "{}")
+                reports.write_atomically(pathlib.Path(tmp) / "nope" / "results.json", "{}")
             self.assertEqual(list(pathlib.Path(tmp).iterdir()), [])
 
     def test_submission_folder_checks(self):
         with tempfile.TemporaryDirectory() as tmp:
             tmp = pathlib.Path(tmp)
             with self.assertRaisesRegex(grade.GradeError, "not found"):
-                grade.prepare_submission(tmp / "missing", tmp / "hooks")
+                building.prepare_submission(tmp / "missing", tmp / "hooks")
             (tmp / "empty").mkdir()
             with self.assertRaisesRegex(grade.GradeError, "none of the hook files"):
-                grade.prepare_submission(tmp / "empty", tmp / "hooks")
+                building.prepare_submission(tmp / "empty", tmp / "hooks")
             sub = tmp / "sub"
             sub.mkdir()
             (sub / "integrator.cpp").write_text("// mine\n")
             (sub / "report.pdf").write_text("not code")
-            missing, ignored = grade.prepare_submission(sub, tmp / "hooks")
+            missing, ignored = building.prepare_submission(sub, tmp / "hooks")
             self.assertEqual((tmp / "hooks" / "integrator.cpp").read_text(), "// mine\n")
             self.assertIn("simulation_timestep.cpp", missing)
             self.assertEqual(ignored, ["report.pdf"])

@@ -1,0 +1,266 @@
+"""Running graded tests: one process per test, limits, and what a failure means (which hook, which limit)."""
+import json
+import os
+import pathlib
+import re
+import shutil
+import signal
+import subprocess
+import tempfile
+import threading
+import time
+
+import hooks
+from grading import GradeError
+
+DEFAULT_TIMEOUT = 5.0         # s per test; the reference solution needs a few hundredths
+OUTPUT_CAP = 1 << 20          # bytes of output a test may print before it is stopped
+TRACE_GRACE = 2.0             # s a stopped test gets to write its call stack before it is killed
+GTEST_LINE = re.compile(r"^(Note: Google Test filter|\[[ =A-Z-]{10}\])")  # GoogleTest's own lines
+ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
+
+
+def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None, env=None, warn_signal=None):
+    """Runs cmd in its own process group. Returns (returncode, output, why) where why is None or
+    'timeout' or 'output'. At a limit the process first gets warn_signal (if given) and
+    TRACE_GRACE seconds to report where it was, then the whole group is killed."""
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=cwd, env=env,
+                            start_new_session=True)
+    chunks, size, why = [], 0, [None]
+    stopped = threading.Event()
+
+    def stop(reason):
+        if why[0] is None:
+            why[0] = reason
+        stopped.set()
+
+    def reader():
+        nonlocal size
+        while True:
+            data = proc.stdout.read1(65536)
+            if not data:
+                return
+            if size < cap:
+                chunks.append(data[: cap - size])
+            size += len(data)
+            if size > cap and not stopped.is_set():
+                stop("output")
+
+    thread = threading.Thread(target=reader, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + timeout
+    while proc.poll() is None and not stopped.is_set():
+        try:
+            proc.wait(timeout=min(0.05, max(0.0, deadline - time.monotonic())))
+        except subprocess.TimeoutExpired:
+            pass
+        if time.monotonic() >= deadline and proc.poll() is None:
+            stop("timeout")
+    if stopped.is_set() and proc.poll() is None:
+        if warn_signal is not None:
+            try:
+                os.kill(proc.pid, warn_signal)
+                proc.wait(timeout=TRACE_GRACE)
+            except (ProcessLookupError, subprocess.TimeoutExpired):
+                pass
+    try:
+        os.killpg(proc.pid, signal.SIGKILL)  # the test and anything it started
+    except ProcessLookupError:
+        pass
+    proc.wait()
+    thread.join(timeout=5)
+    proc.stdout.close()
+    return proc.returncode, b"".join(chunks).decode("utf-8", "replace"), why[0]
+
+
+def manifest(binary):
+    """The graded tests of an autograder binary, checked: dependencies name graded tests, no cycles."""
+    binary = pathlib.Path(binary)
+    if not binary.is_file():
+        raise GradeError(f"autograder binary not found: {binary}")
+    rc, out, why = run_limited([str(binary), "--grader-manifest"], timeout=30)
+    if rc != 0 or why:
+        raise GradeError(f"{binary.name} --grader-manifest failed (exit {rc}): {out.strip()[-300:]}")
+    tests = json.loads(out)
+    for t in tests:
+        t.setdefault("time_limit", 0)
+        t.setdefault("depends_on", [])
+        t.setdefault("hidden", False)
+    return in_dependency_order(tests)
+
+
+def in_dependency_order(tests):
+    """The tests in their declared order, except that each comes after its prerequisites."""
+    by_name = {t["name"]: t for t in tests}
+    ordered, state = [], {}
+
+    def visit(t, path):
+        if state.get(t["name"]) == "done":
+            return
+        if state.get(t["name"]) == "visiting":
+            raise GradeError("graded tests depend on each other in a circle: " + " -> ".join(path + [t["name"]]))
+        state[t["name"]] = "visiting"
+        for d in t["depends_on"]:
+            if d not in by_name:
+                raise GradeError(f"{t['name']} depends on {d}, which is not a graded test")
+            visit(by_name[d], path + [t["name"]])
+        state[t["name"]] = "done"
+        ordered.append(t)
+
+    for t in tests:
+        visit(t, [])
+    return ordered
+
+
+def _failure_messages(report):
+    messages = []
+    for suite in report.get("testsuites", []):
+        for case in suite.get("testsuite", []):
+            for failure in case.get("failures", []):
+                text = failure.get("failure", "")
+                first, _, rest = text.partition("\n")
+                # GoogleTest starts each failure with "file:line"; the student needs the message.
+                text = rest if rest and ":" in first and first.split(":")[-1].isdigit() else text
+                # ADD_FAILURE() and FAIL() add a bare "Failed" line before the message.
+                messages.append(text[len("Failed\n"):] if text.startswith("Failed\n") else text)
+    return messages
+
+
+# ---- Which hook was running -----------------------------------------------------------------------
+
+def hook_names():
+    """{"integrator": "integrator()", ...}: the hooks, as their stubs announce themselves."""
+    names = {}
+    for f in hooks.hook_files():
+        path = ROOT / "assignments" / f
+        if path.is_file():
+            text = path.read_text(errors="replace")
+            for function in re.findall(r"PhysicsEngine::(\w+)\(", text):
+                names[function] = function + "()"
+            for hook in re.findall(r'[nN]otImplemented\("([^"]+)"\)', text):
+                names[hook.split("(")[0].split("::")[-1]] = hook
+    return names
+
+
+def _demangle(symbols):
+    if not symbols or shutil.which("c++filt") is None:
+        return symbols
+    proc = subprocess.run(["c++filt"], input="\n".join(symbols) + "\n", capture_output=True, text=True)
+    out = proc.stdout.splitlines()
+    return out if proc.returncode == 0 and len(out) == len(symbols) else symbols
+
+
+def hook_in_trace(trace, output=""):
+    """The innermost student hook in a call stack written by the autograder (graded.cpp), or in a
+    failed assert's message; None when neither names one."""
+    known = hook_names()
+    symbols = [m.group(1) for m in re.finditer(r"\(([^()+\s]+)\+0x[0-9a-f]+\)", trace)]
+    for name in _demangle(symbols):
+        function = name.split("(")[0].split("::")[-1]
+        if function in known:
+            return known[function]
+    # glibc's assert: "file:line: void gpl::PhysicsEngine::integrator(): Assertion `...' failed."
+    for line in reversed(output.splitlines()):
+        m = re.search(r": ([^:]*(?:::[^:(]+)*)\([^)]*\): Assertion", line)
+        if m:
+            function = m.group(1).split("::")[-1].split()[-1]
+            if function in known:
+                return known[function]
+    return None
+
+
+def _signal_name(number):
+    try:
+        return signal.Signals(number).name
+    except ValueError:
+        return f"signal {number}"
+
+
+def run_one(binary, test, timeout, guard=None, alone=False):
+    """Runs one graded test in its own process. Returns (passed, output, seconds). With a guard, a
+    test that writes into the lab's files fails; when other tests ran at the same time, the ones
+    that may have written run again, one at a time, so that only the writer is blamed."""
+    token = guard.start(alone) if guard else None
+    try:
+        passed, output, seconds = _run_one(binary, test, timeout)
+    finally:
+        tampered, suspect = guard.finish(token) if guard else ([], False)
+    if suspect and not alone:
+        return run_one(binary, test, timeout, guard, alone=True)
+    if tampered:
+        passed = False
+        output = (f"wrote into the lab's own files, which is not allowed (undone): {', '.join(tampered)}\n"
+                  + output).strip()
+    return passed, output, seconds
+
+
+def _run_one(binary, test, timeout):
+    with tempfile.TemporaryDirectory(prefix="gpl-grade-") as tmp:
+        report_path = pathlib.Path(tmp) / "report.json"
+        trace_path = pathlib.Path(tmp) / "trace.txt"
+        cmd = [str(binary), f"--gtest_filter={test}", f"--gtest_output=json:{report_path}"]
+        env = {**os.environ, "GPL_GRADER_TRACE": str(trace_path)}
+        start = time.monotonic()
+        rc, out, why = run_limited(cmd, timeout, cwd=tmp, env=env, warn_signal=signal.SIGUSR1)
+        seconds = time.monotonic() - start
+        passed, output = _verdict(test, rc, out, why, timeout, report_path, trace_path, binary)
+        return passed, output, seconds
+
+
+def _verdict(test, rc, out, why, timeout, report_path, trace_path, binary):
+    trace = trace_path.read_text(errors="replace") if trace_path.exists() else ""
+    hook = hook_in_trace(trace, out)
+    where = f" in {hook}" if hook else ""
+    tail = "\n".join(out.strip().splitlines()[-8:])
+    if why == "timeout":
+        return False, f"timed out after {timeout:g} s{where} (an endless loop?)"
+    if why == "output":
+        own = [l for l in out.strip().splitlines() if not GTEST_LINE.match(l)]
+        head = "\n".join(own[:6])
+        return False, f"printed more than {OUTPUT_CAP // 1024} KiB of output{where} and was stopped; it began:\n{head}"
+    if rc < 0:
+        name = _signal_name(-rc)
+        what = {"SIGABRT": " (abort: a failed assert or an uncaught exception)",
+                "SIGFPE": " (an arithmetic error such as an integer division by zero)"}.get(name, "")
+        return False, f"crashed with {name}{what}{where}\n{tail}".strip()
+    if not report_path.exists():
+        return False, f"the test exited with status {rc}{where} before reporting\n{out[-2000:]}".strip()
+    report = json.loads(report_path.read_text())
+    if report.get("tests", 0) != 1:
+        return False, f"test {test} not found in {pathlib.Path(binary).name}"
+    failures = _failure_messages(report)
+    passed = rc == 0 and not failures
+    # The fixture's "hooks still not implemented" note says the most: show it first.
+    failures.sort(key=lambda m: not m.startswith("hooks still not implemented"))
+    return passed, "\n".join(failures)
+
+
+def select(tests, worksheet):
+    picked = [t for t in tests if worksheet is None or t["worksheet"] == worksheet]
+    if not picked:
+        raise GradeError(f"no graded tests for worksheet {worksheet}")
+    return picked
+
+
+def grade_binary(binary, worksheet=None, timeout=DEFAULT_TIMEOUT, guard=None):
+    """Grades every selected test, prerequisites first. A test whose prerequisite lost its points
+    is not run: it scores zero and says which prerequisite to fix first."""
+    binary = pathlib.Path(binary).resolve()
+    tests = select(manifest(binary), worksheet)
+    results = {}
+    for t in tests:
+        blocked = [d for d in t["depends_on"] if d in results and not results[d]["passed"]]
+        if blocked:
+            results[t["name"]] = {**t, "passed": False, "not_run": True, "score": 0.0, "seconds": 0.0,
+                                  "output": f"not run: depends on {', '.join(blocked)}, which did not pass; fix that first"}
+            continue
+        limit = t["time_limit"] or timeout
+        passed, output, seconds = run_one(binary, t["name"], limit, guard)
+        results[t["name"]] = {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
+                              "output": output, "seconds": seconds}
+    return list(results.values())
+
+
+def failed_results(tests, message):
+    return [{**t, "passed": False, "not_run": False, "score": 0.0, "seconds": 0.0, "output": message}
+            for t in tests]
