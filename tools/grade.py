@@ -48,9 +48,15 @@ from grading.building import (Submission, build_submissions, cmake_build, config
 from grading.guard import Guard  # noqa: E402
 from grading.reports import (Progress, check_writable, gradebook, gradescope, report, table,  # noqa: E402
                              write_atomically)
+from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, limits_of  # noqa: E402
 from grading.running import DEFAULT_TIMEOUT, failed_results, grade_binary, manifest, run_one  # noqa: E402
 
 # ---- Commands -------------------------------------------------------------------------------------
+
+def unless_sandboxed(make_guard):
+    """The write guard, needed only where tests run without the sandbox (which hides the lab)."""
+    return None if Sandbox.here().isolated else make_guard()
+
 
 def submission_build_dir(build_dir):
     return build_dir.parent / (build_dir.name + "-submission")
@@ -67,7 +73,7 @@ def cmd_grade(args):
     check_writable(args.junit)
     build_dir = pathlib.Path(args.build_dir).resolve()
     start = time.monotonic()
-    guard = Guard(ROOT, build_dir / "quarantine", skip=[p for p in (args.json, args.junit) if p])
+    guard = unless_sandboxed(lambda: Guard(ROOT, build_dir / "quarantine", skip=[p for p in (args.json, args.junit) if p]))
     if args.submission:
         label = f"submission {args.submission}"
         sub_build = submission_build_dir(build_dir)
@@ -81,7 +87,7 @@ def cmd_grade(args):
         if sub.build_errors is not None:
             print("the code does not compile; every test scores zero. First errors:\n" + sub.build_errors)
         grade_submission(sub, args, sub_build, guard, lambda: reference_tests(sub_build, args.worksheet, None))
-        return report(sub.results, label, args, time.monotonic() - start, sub.notes())
+        return report(sub.results, label, args, time.monotonic() - start, sub.notes(), root=ROOT)
     if args.solutions and not (ROOT / "solutions").is_dir():
         raise GradeError("this is a student release: it has no solutions to grade")
     variant = "solutions" if args.solutions else "assignments"
@@ -94,7 +100,7 @@ def cmd_grade(args):
         results = failed_results(tests, "the code does not compile:\n" + first_errors(log))
         return report(results, variant, args, time.monotonic() - start)
     results = grade_binary(build_dir / "tests" / f"autograder_{variant}", args.worksheet, args.timeout, guard)
-    return report(results, variant, args, time.monotonic() - start)
+    return report(results, variant, args, time.monotonic() - start, root=ROOT if variant == "assignments" else None)
 
 
 
@@ -123,6 +129,11 @@ def cmd_batch(args):
     if skipped:
         print(f"not submission folders, skipped: {', '.join(skipped)}", file=sys.stderr)
     jobs = args.jobs or os.cpu_count() or 1
+    fits = BUDGET.slots(DEFAULT_MEMORY_MIB)
+    if fits is not None and jobs > fits:
+        print(f"{jobs} jobs would need more memory than the machine has available: {fits} at once "
+              f"(each test may use {DEFAULT_MEMORY_MIB} MiB)", file=sys.stderr)
+        jobs = fits
     build_dir = pathlib.Path(args.build_dir).resolve()
     sub_build = submission_build_dir(build_dir)
     start = time.monotonic()
@@ -131,6 +142,7 @@ def cmd_batch(args):
     stage_submissions(subs, sub_build)
     distinct = len({s.variant for s in subs if s.variant})
     print(f"grading {len(subs)} submissions ({distinct} distinct) with {jobs} jobs", file=sys.stderr)
+    print(Sandbox.here().describe(), file=sys.stderr)
     build_submissions(subs, sub_build, os.cpu_count())  # compiling uses every core whatever --jobs says
     reference_cache, reference_lock = [], threading.Lock()
 
@@ -142,7 +154,7 @@ def cmd_batch(args):
 
     if any(s.error or s.build_errors is not None for s in subs):
         reference()
-    guard = Guard(ROOT, build_dir / "quarantine", skip=[out, results_dir, batch])
+    guard = unless_sandboxed(lambda: Guard(ROOT, build_dir / "quarantine", skip=[out, results_dir, batch]))
     results_dir.mkdir(exist_ok=True)
     progress = Progress(len(subs))
 
@@ -151,7 +163,8 @@ def cmd_batch(args):
         grade_submission(sub, args, sub_build, guard, reference)
         (results_dir / sub.name).mkdir(exist_ok=True)
         write_atomically(results_dir / sub.name / "results.json",
-                         json.dumps(gradescope(sub.results, sub.seconds, args.hidden_visibility, sub.notes()),
+                         json.dumps(gradescope(sub.results, sub.seconds, args.hidden_visibility,
+                                               "\n".join(n for n in (sub.notes(), Sandbox.here().describe()) if n)),
                                     indent=2) + "\n")
         progress.finished(sub)
         return sub
@@ -236,7 +249,7 @@ def cmd_selfcheck(args):
         # The named test must lose its points in the graded run (failed or not run) AND fail when run
         # on its own: a prerequisite catching the mistake must not hide a test that cannot.
         alone, output, _ = run_one(pathlib.Path(args.binary).resolve(), spec["must_fail"],
-                                   named["time_limit"] or args.timeout)
+                                   limits_of(named, args.timeout))
         ok = not named["passed"] and named["score"] == 0 and total < maximum and not alone
         if ok:
             print(f"OK: '{spec['mistake']}' is caught by {spec['must_fail']}"

@@ -5,7 +5,11 @@
 //   GRADED_TEST(Worksheet1, Name, points, "hint" [, option...]) { ... }
 //
 // Options, declared next to the test:
-//   grading::timeLimit(20)          seconds the test may run (the grader's default otherwise)
+//   grading::timeLimit(20)          seconds the test may run, wall clock and CPU time alike (the
+//                                   grader's default otherwise)
+//   grading::memoryLimit(2048)      MiB of resident memory the test may use (default 1024)
+//   grading::threadLimit(4)         threads the test may run at once (default 8)
+//   grading::fileLimit(128)         MiB the test may write to one file (default 64)
 //   grading::dependsOn("OtherTest") not run (scores zero, "not run: depends on ...") when that
 //                                   test of the same suite fails; "Suite.Test" names another suite
 //   grading::hidden()               graded, but left out of student releases and shown on
@@ -27,18 +31,24 @@ struct GradedTest {
     double points;
     std::string hint;                    ///< shown when the test fails
     double timeLimit = 0.0;              ///< s; 0: the grader's default
+    double memoryLimit = 0.0;            ///< MiB; 0: the grader's default
+    double threadLimit = 0.0;            ///< threads; 0: the grader's default
+    double fileLimit = 0.0;              ///< MiB; 0: the grader's default
     std::vector<std::string> dependsOn;  ///< "Suite.Test" names
     bool hidden = false;
 };
 
 /// An option of GRADED_TEST: changes the test's declaration.
 struct Option {
-    enum class Kind { TimeLimit, DependsOn, Hidden } kind;
-    double seconds = 0.0;
+    enum class Kind { TimeLimit, MemoryLimit, ThreadLimit, FileLimit, DependsOn, Hidden } kind;
+    double value = 0.0;  ///< s, MiB or a count, as the kind says
     const char* test = nullptr;
 };
 
 inline Option timeLimit(double seconds) { return {Option::Kind::TimeLimit, seconds, nullptr}; }
+inline Option memoryLimit(double mebibytes) { return {Option::Kind::MemoryLimit, mebibytes, nullptr}; }
+inline Option threadLimit(int threads) { return {Option::Kind::ThreadLimit, double(threads), nullptr}; }
+inline Option fileLimit(double mebibytes) { return {Option::Kind::FileLimit, mebibytes, nullptr}; }
 inline Option dependsOn(const char* test) { return {Option::Kind::DependsOn, 0.0, test}; }
 inline Option hidden() { return {Option::Kind::Hidden, 0.0, nullptr}; }
 

@@ -1,8 +1,12 @@
 """Submissions that misbehave, graded together as a batch: one that segfaults, one that loops forever,
-one that prints without end, one that returns NaN, one that does not compile and one that writes
-into the tests folder. Each misbehaves only in some tests (a condition on the time step or the
-masses), so the test checks that exactly those tests lose their points, with the right message,
-and that every other test of the same submission, and every other submission, is unaffected."""
+one that prints without end, one that returns NaN, one that does not compile, one that writes into
+the tests folder, one whose cache grows without end, one that starts processes, one that writes a
+huge file, one that starts threads in a loop, one that opens a network connection and one that reads
+the solutions, another submission and the results. Each misbehaves only in some tests (a condition
+on the time step or the masses), so the test checks that exactly those tests lose their points, with
+the right message, and that every other test of the same submission, and every other submission, is
+unaffected. The batch runs in the sandbox (bubblewrap), which this machine allows; a second, smaller
+batch runs without it (GPL_GRADER_SANDBOX=off), where the write guard catches the writer."""
 import csv
 import hashlib
 import json
@@ -61,6 +65,47 @@ SUBMISSIONS = {
         f"            std::ofstream(\"{TAMPERED}\", std::ios::app) << \"// every test passes\\n\";\n"
         f"            std::ofstream(\"{INJECTED}\") << \"// injected\\n\";\n"
         f"        }}\n", includes="#include <fstream>\n"),
+    # A cache that grows every step, without end: the memory limit, not the time limit, stops it.
+    "memory_hog": integrator("        static std::vector<std::vector<double>> cache;\n"
+                             "        while (h == 0.005) cache.emplace_back(1 << 20, b.position.x());\n",
+                             includes="#include <vector>\n"),
+    # Twenty processes, each ending at once (bounded, so that the test cannot hurt the machine).
+    "forks": integrator("        for (int i = 0; h == 0.004 && i < 20; ++i) {\n"
+                        "            const pid_t child = fork();\n"
+                        "            if (child == 0) _exit(0);\n"
+                        "            if (child > 0) waitpid(child, nullptr, 0);\n"
+                        "        }\n", includes="#include <sys/wait.h>\n#include <unistd.h>\n"),
+    # 200 MiB into one file, in 1 MiB blocks.
+    "huge_file": integrator("        if (h == 0.004) {\n"
+                            "            const std::vector<char> block(1 << 20, 'x');\n"
+                            "            std::FILE* f = std::fopen(\"debug-dump.bin\", \"wb\");\n"
+                            "            for (int i = 0; f && i < 200; ++i) std::fwrite(block.data(), 1, block.size(), f);\n"
+                            "            if (f) std::fclose(f);\n"
+                            "        }\n", includes="#include <cstdio>\n#include <vector>\n"),
+    # 64 threads at once, each asleep for a second.
+    "threads": integrator("        if (h == 0.005) {\n"
+                          "            std::vector<std::thread> pool;\n"
+                          "            for (int i = 0; i < 64; ++i)\n"
+                          "                pool.emplace_back([] { std::this_thread::sleep_for(std::chrono::seconds(1)); });\n"
+                          "            for (auto& t : pool) t.join();\n"
+                          "        }\n", includes="#include <chrono>\n#include <thread>\n#include <vector>\n"),
+    # One connection attempt to a port on this machine.
+    "network": integrator("        if (h == 0.02) {\n"
+                          "            const int s = socket(AF_INET, SOCK_STREAM, 0);\n"
+                          "            sockaddr_in to{};\n"
+                          "            to.sin_family = AF_INET;\n"
+                          "            to.sin_port = htons(9);\n"
+                          "            to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);\n"
+                          "            if (s >= 0) connect(s, reinterpret_cast<sockaddr*>(&to), sizeof to);\n"
+                          "            if (s >= 0) close(s);\n"
+                          "        }\n",
+                          includes="#include <arpa/inet.h>\n#include <netinet/in.h>\n#include <sys/socket.h>\n"
+                                   "#include <unistd.h>\n"),
+    # Looks at the solutions, another submission and the batch's results: whatever it can open makes
+    # its answer wrong, so full marks prove it saw none of them.
+    "snoops": integrator("        for (const char* path : {SNOOPED}) {\n"
+                         "            if (std::ifstream(path).good() || opendir(path)) b.velocity.x() += 1.0;\n"
+                         "        }\n", includes="#include <dirent.h>\n#include <fstream>\n"),
 }
 
 # name -> {test: ("FAIL" | "not run", regex of its output)}; every test not named must pass.
@@ -87,11 +132,31 @@ EXPECTED = {
         "Worksheet1.StaysFinite": ("FAIL", r"no longer finite"),
         "Worksheet1.EnergyNeverIncreases": ("not run", r"^not run: depends on Worksheet1.GravityPointsDown"),
     },
-    "writes_tests": {
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^wrote into the lab's own files, which is not allowed \(undone\): "
-                                                  r"tests/autograder/injected_test.cpp, tests/autograder/worksheet1_test.cpp"),
+    # In the sandbox the tests folder is not there to write into: the writes go nowhere.
+    "writes_tests": {},
+    "memory_hog": {
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^used more than 1024 MiB of memory in integrator\(\) and was stopped"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
     },
+    "forks": {
+        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^tried to start a process in integrator\(\), which graded "
+                                                       r"code may not do"),
+    },
+    "huge_file": {
+        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^wrote more than 64 MiB to a file in integrator\(\) and was "
+                                                       r"stopped"),
+    },
+    "threads": {
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^ran more than 8 threads at once in integrator\(\) and was stopped"),
+        "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
+    },
+    "network": {
+        "Worksheet1.OneStepIsSemiImplicitEuler": ("FAIL", r"^tried to open a network connection in integrator\(\)"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^tried to open a network connection in integrator\(\)"),
+        "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.OneStepIsSemiImplicitEuler"),
+        "Worksheet1Hidden.EnergyLossPerStepIsExact": ("not run", r"^not run: depends on Worksheet1.OneStep"),
+    },
+    "snoops": {},
 }
 
 # Tests of later worksheets that step the engine depend on worksheet 1's free fall (the integrator
@@ -104,31 +169,40 @@ for expected in EXPECTED.values():
                          for name in STEPPING})
 
 
-class Misbehaving(unittest.TestCase):
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-isolation-"))
-        cls.before = tree_digest(ROOT / "tests")
-        batch = cls.tmp / "batch"
-        for name, text in SUBMISSIONS.items():
-            sub = batch / name
-            sub.mkdir(parents=True)
-            (sub / "integrator.cpp").write_text(text)
-            for hook in hooks.hook_files():
-                if hook not in ("integrator.cpp", "student_scenes.cpp"):
-                    shutil.copy(ROOT / "solutions" / hook, sub)
-        # A submission cannot bring its own tests: the file is ignored.
+def grade_batch(cls, names, env=None):
+    """Grades the named submissions as one batch; sets cls.tmp, cls.proc, cls.gradebook, cls.results."""
+    cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-isolation-"))
+    batch = cls.tmp / "batch"
+    snooped = [ROOT / "solutions" / "integrator.cpp", batch / "reference" / "integrator.cpp",
+               cls.tmp / "gradebook-results", cls.tmp]
+    for name in names:
+        sub = batch / name
+        sub.mkdir(parents=True)
+        text = SUBMISSIONS[name].replace("{SNOOPED}", ", ".join(f'"{p}"' for p in snooped))
+        (sub / "integrator.cpp").write_text(text)
+        for hook in hooks.hook_files():
+            if hook not in ("integrator.cpp", "student_scenes.cpp"):
+                shutil.copy(ROOT / "solutions" / hook, sub)
+    if "writes_tests" in names:  # a submission cannot bring its own tests: the file is ignored
         fake = batch / "writes_tests" / "tests" / "autograder" / "worksheet1_test.cpp"
         fake.parent.mkdir(parents=True)
         fake.write_text("// a test file that lets everything pass\n")
-        cls.gradebook = cls.tmp / "gradebook.csv"
-        cls.proc = subprocess.run([str(ROOT / "lab"), "grade", "--batch", str(batch), "--out", str(cls.gradebook),
-                                   "--timeout", "2"], capture_output=True, text=True, cwd=ROOT, timeout=500)
-        cls.results = {}
-        for name in SUBMISSIONS:
-            path = cls.tmp / "gradebook-results" / name / "results.json"
-            if path.exists():
-                cls.results[name] = json.loads(path.read_text())
+    cls.gradebook = cls.tmp / "gradebook.csv"
+    cls.proc = subprocess.run([str(ROOT / "lab"), "grade", "--batch", str(batch), "--out", str(cls.gradebook),
+                               "--timeout", "2"], capture_output=True, text=True, cwd=ROOT, timeout=500,
+                              env={**os.environ, **(env or {})})
+    cls.results = {}
+    for name in names:
+        path = cls.tmp / "gradebook-results" / name / "results.json"
+        if path.exists():
+            cls.results[name] = json.loads(path.read_text())
+
+
+class Misbehaving(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.before = tree_digest(ROOT / "tests")
+        grade_batch(cls, list(SUBMISSIONS))
 
     @classmethod
     def tearDownClass(cls):
@@ -175,10 +249,30 @@ class Misbehaving(unittest.TestCase):
     def test_nan_costs_only_the_tests_with_heavy_bodies(self):
         self.check("nan")
 
-    def test_writing_into_the_tests_costs_that_test_and_is_undone(self):
+    def test_the_sandbox_was_used(self):
+        self.assertIn("sandbox: each test ran in bubblewrap", self.proc.stderr)
+        self.assertIn("sandbox: each test ran in bubblewrap", self.results["reference"]["output"])
+
+    def test_writing_into_the_tests_goes_nowhere(self):
         self.check("writes_tests")
-        quarantined = list((ROOT / "build" / "release" / "quarantine").rglob("injected_test.cpp"))
-        self.assertTrue(quarantined, "what the submission wrote is kept aside")
+
+    def test_a_growing_cache_is_stopped_by_the_memory_limit(self):
+        self.check("memory_hog")
+
+    def test_starting_processes_is_refused(self):
+        self.check("forks")
+
+    def test_a_huge_file_is_stopped_by_the_file_limit(self):
+        self.check("huge_file")
+
+    def test_threads_in_a_loop_are_stopped_by_the_thread_limit(self):
+        self.check("threads")
+
+    def test_a_network_connection_is_refused(self):
+        self.check("network")
+
+    def test_the_solutions_other_submissions_and_results_are_out_of_sight(self):
+        self.check("snoops")
 
     def test_a_submission_that_does_not_compile_scores_zero_with_the_error(self):
         results = self.results["no_compile"]
@@ -198,6 +292,52 @@ class Misbehaving(unittest.TestCase):
                       self.results["writes_tests"]["output"])
         self.assertIn("not in the submission, graded as the untouched stub: student_scenes.cpp",
                       self.results["reference"]["output"])
+
+
+class WithoutSandbox(unittest.TestCase):
+    """Where bubblewrap cannot run, the grader says so and falls back: the write guard puts the lab's
+    files back and fails the writer; starting a process is still refused (the autograder's own
+    filter); what the sandbox hid is in sight, which the snooping submission shows."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.before = tree_digest(ROOT / "tests")
+        grade_batch(cls, ["reference", "writes_tests", "forks", "snoops"], env={"GPL_GRADER_SANDBOX": "off"})
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    check = Misbehaving.check
+
+    def test_the_fallback_is_reported(self):
+        line = "sandbox: not used: switched off (GPL_GRADER_SANDBOX=off)"
+        self.assertIn(line, self.proc.stderr)
+        self.assertIn(line, self.results["reference"]["output"])
+        self.check("reference")
+
+    def test_writing_into_the_tests_costs_that_test_and_is_undone(self):
+        expected = {
+            "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^wrote into the lab's own files, which is not allowed \(undone\): "
+                                                      r"tests/autograder/injected_test.cpp, tests/autograder/worksheet1_test.cpp"),
+            "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
+        }
+        expected.update({name: ("not run", r"^not run: depends on Worksheet1.MatchesDiscreteFreeFall")
+                         for name in STEPPING})
+        EXPECTED["writes_tests (no sandbox)"] = expected
+        self.results["writes_tests (no sandbox)"] = self.results["writes_tests"]
+        self.check("writes_tests (no sandbox)")
+        self.assertFalse(INJECTED.exists())
+        self.assertEqual(tree_digest(ROOT / "tests"), self.before, "a submission changed the tests folder")
+        quarantined = list((ROOT / "build" / "release" / "quarantine").rglob("injected_test.cpp"))
+        self.assertTrue(quarantined, "what the submission wrote is kept aside")
+
+    def test_starting_processes_is_still_refused(self):
+        self.check("forks")
+
+    def test_without_the_sandbox_the_solutions_are_in_sight(self):
+        results = self.results["snoops"]
+        self.assertLess(results["score"], results["max_score"])
 
 
 if __name__ == "__main__":

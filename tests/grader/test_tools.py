@@ -101,7 +101,8 @@ class Reports(unittest.TestCase):
         self.assertTrue(all(r["output"].startswith("hooks still not implemented") for r in open_hooks))
 
     def test_unknown_test_name_is_a_failure_not_a_pass(self):
-        passed, output, _ = running.run_one(pathlib.Path(binary("solutions")).resolve(), "Worksheet1.NoSuchTest", 10)
+        passed, output, _ = running.run_one(pathlib.Path(binary("solutions")).resolve(), "Worksheet1.NoSuchTest",
+                                          running.limits_of({}, 10))
         self.assertFalse(passed)
         self.assertIn("not found", output)
 

@@ -9,7 +9,7 @@ import tempfile
 import threading
 import xml.etree.ElementTree as ET
 
-from grading import GradeError
+from grading import GradeError, sandbox
 
 
 def status_word(r):
@@ -109,9 +109,35 @@ def check_writable(path):
         raise GradeError(f"cannot write {path}: the folder {parent} does not exist or is not writable")
 
 
-def report(results, label, args, seconds, notes=""):
-    print(table(results, f"Game Physics Lab autograder: {label}"
-                + (f", worksheet {args.worksheet}" if args.worksheet else "")))
+def worksheet_files(root):
+    """{N: "worksheets/0N-name.md"} of the worksheets the course has."""
+    found = {}
+    for path in sorted((pathlib.Path(root) / "worksheets").glob("[0-9][0-9]-*.md")):
+        found[int(path.name[:2])] = f"worksheets/{path.name}"
+    return found
+
+
+def next_step(results, worksheet, root):
+    """What comes after full marks: the next worksheet, or that all are done; None before that."""
+    if not results or not all(r["passed"] for r in results):
+        return None
+    files = worksheet_files(root)
+    done = worksheet if worksheet else max(r["worksheet"] for r in results)
+    later = sorted(n for n in files if n > done)
+    head = f"full marks on worksheet {worksheet}" if worksheet else "full marks"
+    if later:
+        return f"{head}. Next: worksheet {later[0]}, {files[later[0]]}"
+    return f"{head}: all worksheets done"
+
+
+def report(results, label, args, seconds, notes="", root=None):
+    lines = table(results, f"Game Physics Lab autograder: {label}"
+                  + (f", worksheet {args.worksheet}" if args.worksheet else "")).splitlines()
+    step = next_step(results, args.worksheet, root) if root else None
+    # The last line stays the count of passed and failed tests.
+    lines[-1:-1] = [sandbox.Sandbox.here().describe()] + ([step] if step else [])
+    print("\n".join(lines))
+    notes = "\n".join(n for n in (notes, sandbox.Sandbox.here().describe()) if n)
     if args.json:
         write_atomically(args.json, json.dumps(gradescope(results, seconds, args.hidden_visibility, notes), indent=2) + "\n")
         print(f"wrote {args.json}")

@@ -11,7 +11,8 @@ import threading
 import time
 
 import hooks
-from grading import GradeError
+from grading import GradeError, sandbox
+from grading.sandbox import limits_of
 
 DEFAULT_TIMEOUT = 5.0         # s per test; the reference solution needs a few hundredths
 OUTPUT_CAP = 1 << 20          # bytes of output a test may print before it is stopped
@@ -20,10 +21,12 @@ GTEST_LINE = re.compile(r"^(Note: Google Test filter|\[[ =A-Z-]{10}\])")  # Goog
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 
 
-def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None, env=None, warn_signal=None):
-    """Runs cmd in its own process group. Returns (returncode, output, why) where why is None or
-    'timeout' or 'output'. At a limit the process first gets warn_signal (if given) and
-    TRACE_GRACE seconds to report where it was, then the whole group is killed."""
+def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None, env=None, warn_signal=None, watch=None):
+    """Runs cmd in its own process group. Returns (returncode, output, why) where why is None,
+    'timeout', 'output' or what watch(pid) returned: watch is asked every few hundredths of a second
+    and names a limit the running command broke (or None). At a limit the processes below cmd first
+    get warn_signal (if given) and TRACE_GRACE seconds to report where they were, then every one of
+    them is killed."""
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=cwd, env=env,
                             start_new_session=True)
     chunks, size, why = [], 0, [None]
@@ -51,20 +54,35 @@ def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None, env=None, warn_signal=No
     deadline = time.monotonic() + timeout
     while proc.poll() is None and not stopped.is_set():
         try:
-            proc.wait(timeout=min(0.05, max(0.0, deadline - time.monotonic())))
+            proc.wait(timeout=min(0.02, max(0.0, deadline - time.monotonic())))
         except subprocess.TimeoutExpired:
             pass
-        if time.monotonic() >= deadline and proc.poll() is None:
+        if proc.poll() is not None:
+            break
+        if time.monotonic() >= deadline:
             stop("timeout")
+        elif watch is not None:
+            broken = watch(proc.pid)
+            if broken:
+                stop(broken)
     if stopped.is_set() and proc.poll() is None:
         if warn_signal is not None:
+            for pid in sandbox.test_processes(proc.pid):
+                try:
+                    os.kill(pid, warn_signal)
+                except ProcessLookupError:
+                    pass
             try:
-                os.kill(proc.pid, warn_signal)
                 proc.wait(timeout=TRACE_GRACE)
-            except (ProcessLookupError, subprocess.TimeoutExpired):
+            except subprocess.TimeoutExpired:
                 pass
+    for pid in reversed(sandbox.descendants(proc.pid)):  # the test and anything it started
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
     try:
-        os.killpg(proc.pid, signal.SIGKILL)  # the test and anything it started
+        os.killpg(proc.pid, signal.SIGKILL)
     except ProcessLookupError:
         pass
     proc.wait()
@@ -83,7 +101,8 @@ def manifest(binary):
         raise GradeError(f"{binary.name} --grader-manifest failed (exit {rc}): {out.strip()[-300:]}")
     tests = json.loads(out)
     for t in tests:
-        t.setdefault("time_limit", 0)
+        for key in ("time_limit", "memory_limit", "thread_limit", "file_limit"):
+            t.setdefault(key, 0)
         t.setdefault("depends_on", [])
         t.setdefault("hidden", False)
     return in_dependency_order(tests)
@@ -176,17 +195,22 @@ def _signal_name(number):
         return f"signal {number}"
 
 
-def run_one(binary, test, timeout, guard=None, alone=False):
-    """Runs one graded test in its own process. Returns (passed, output, seconds). With a guard, a
+def run_one(binary, test, limits, guard=None, alone=False):
+    """Runs one graded test (its name) in its own process, within its Limits, in the sandbox where
+    there is one. Returns (passed, output, seconds). With a guard (the fallback without a sandbox), a
     test that writes into the lab's files fails; when other tests ran at the same time, the ones
     that may have written run again, one at a time, so that only the writer is blamed."""
     token = guard.start(alone) if guard else None
     try:
-        passed, output, seconds = _run_one(binary, test, timeout)
+        sandbox.BUDGET.reserve(limits.memory_mib)
+        try:
+            passed, output, seconds = _run_one(binary, test, limits)
+        finally:
+            sandbox.BUDGET.release(limits.memory_mib)
     finally:
         tampered, suspect = guard.finish(token) if guard else ([], False)
     if suspect and not alone:
-        return run_one(binary, test, timeout, guard, alone=True)
+        return run_one(binary, test, limits, guard, alone=True)
     if tampered:
         passed = False
         output = (f"wrote into the lab's own files, which is not allowed (undone): {', '.join(tampered)}\n"
@@ -194,42 +218,78 @@ def run_one(binary, test, timeout, guard=None, alone=False):
     return passed, output, seconds
 
 
-def _run_one(binary, test, timeout):
+def _watch(limits):
+    """What the grader watches while a test runs: its resident memory and its threads."""
+    def watch(pid):
+        memory, threads = sandbox.usage(pid)
+        if memory > limits.memory_mib:
+            return "memory"
+        if threads > limits.threads:
+            return "threads"
+        return None
+    return watch
+
+
+def _run_one(binary, test, limits):
     with tempfile.TemporaryDirectory(prefix="gpl-grade-") as tmp:
         report_path = pathlib.Path(tmp) / "report.json"
         trace_path = pathlib.Path(tmp) / "trace.txt"
-        cmd = [str(binary), f"--gtest_filter={test}", f"--gtest_output=json:{report_path}"]
-        env = {**os.environ, "GPL_GRADER_TRACE": str(trace_path)}
+        args = [f"--gtest_filter={test}", f"--gtest_output=json:{report_path}"]
+        env = {"GPL_GRADER_TRACE": str(trace_path), "GPL_GRADER_SANDBOX": "1"}
+        cmd, env, cwd = sandbox.Sandbox.here().command(binary, args, tmp, limits, env)
         start = time.monotonic()
-        rc, out, why = run_limited(cmd, timeout, cwd=tmp, env=env, warn_signal=signal.SIGUSR1)
+        rc, out, why = run_limited(cmd, limits.seconds, cwd=cwd, env=env, warn_signal=signal.SIGUSR1,
+                                   watch=_watch(limits))
         seconds = time.monotonic() - start
-        passed, output = _verdict(test, rc, out, why, timeout, report_path, trace_path, binary)
+        if sandbox.Sandbox.here().isolated and rc > 128:
+            rc = 128 - rc  # bubblewrap exits with 128 + the signal that ended the test
+        passed, output = _verdict(test, rc, out, why, limits, report_path, trace_path, binary)
         return passed, output, seconds
 
 
-def _verdict(test, rc, out, why, timeout, report_path, trace_path, binary):
+def _verdict(test, rc, out, why, limits, report_path, trace_path, binary):
     trace = trace_path.read_text(errors="replace") if trace_path.exists() else ""
     hook = hook_in_trace(trace, out)
     where = f" in {hook}" if hook else ""
     tail = "\n".join(out.strip().splitlines()[-8:])
     if why == "timeout":
-        return False, f"timed out after {timeout:g} s{where} (an endless loop?)"
+        return False, f"timed out after {limits.seconds:g} s{where} (an endless loop?)"
     if why == "output":
         own = [l for l in out.strip().splitlines() if not GTEST_LINE.match(l)]
         head = "\n".join(own[:6])
         return False, f"printed more than {OUTPUT_CAP // 1024} KiB of output{where} and was stopped; it began:\n{head}"
+    if why == "memory":
+        return False, (f"used more than {limits.memory_mib:g} MiB of memory{where} and was stopped "
+                       "(a container that grows every step?)")
+    if why == "threads":
+        return False, f"ran more than {limits.threads} threads at once{where} and was stopped"
     if rc < 0:
         name = _signal_name(-rc)
+        if name == "SIGSYS":
+            if "forbidden system call: network" in trace:
+                return False, f"tried to open a network connection{where}, which graded code may not do; it was stopped"
+            return False, f"tried to start a process{where}, which graded code may not do; it was stopped"
+        if name == "SIGXCPU":
+            return False, (f"used more than {limits.cpu_seconds()} s of CPU time{where} and was "
+                           "stopped (an endless loop in several threads?)")
+        if name == "SIGXFSZ":
+            return False, f"wrote more than {limits.file_mib:g} MiB to a file{where} and was stopped"
         what = {"SIGABRT": " (abort: a failed assert or an uncaught exception)",
                 "SIGFPE": " (an arithmetic error such as an integer division by zero)"}.get(name, "")
         return False, f"crashed with {name}{what}{where}\n{tail}".strip()
-    if not report_path.exists():
+    text = report_path.read_text(errors="replace") if report_path.exists() else ""
+    if not text.strip():
         return False, f"the test exited with status {rc}{where} before reporting\n{out[-2000:]}".strip()
-    report = json.loads(report_path.read_text())
+    try:
+        report = json.loads(text)
+    except json.JSONDecodeError:
+        return False, f"the test's report is unreadable (exit status {rc}){where}\n{out[-2000:]}".strip()
     if report.get("tests", 0) != 1:
         return False, f"test {test} not found in {pathlib.Path(binary).name}"
     failures = _failure_messages(report)
     passed = rc == 0 and not failures
+    if any("std::bad_alloc" in m for m in failures):
+        failures.insert(0, f"ran out of memory{where}: an allocation failed (std::bad_alloc)")
     # The fixture's "hooks still not implemented" note says the most: show it first.
     failures.sort(key=lambda m: not m.startswith("hooks still not implemented"))
     return passed, "\n".join(failures)
@@ -254,8 +314,7 @@ def grade_binary(binary, worksheet=None, timeout=DEFAULT_TIMEOUT, guard=None):
             results[t["name"]] = {**t, "passed": False, "not_run": True, "score": 0.0, "seconds": 0.0,
                                   "output": f"not run: depends on {', '.join(blocked)}, which did not pass; fix that first"}
             continue
-        limit = t["time_limit"] or timeout
-        passed, output, seconds = run_one(binary, t["name"], limit, guard)
+        passed, output, seconds = run_one(binary, t["name"], limits_of(t, timeout), guard)
         results[t["name"]] = {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
                               "output": output, "seconds": seconds}
     return list(results.values())

@@ -1,0 +1,251 @@
+"""Where and within what a graded test runs.
+
+Limits, each with a default and a per-test override declared with the test (graded.h):
+  time     wall clock, watched by the grader (--timeout or grading::timeLimit); CPU time is a kernel
+           limit a second above it (SIGXCPU), so threads cannot multiply it (one thread meets the
+           wall clock first)
+  memory   resident memory of the test, watched by the grader (grading::memoryLimit)
+  threads  threads at once, watched by the grader (grading::threadLimit)
+  files    bytes written to one file, a kernel limit (SIGXFSZ, grading::fileLimit); the private
+           temporary folder holds twice that in all
+Starting a process or opening a network connection is refused by the autograder's own system-call
+filter (graded.cpp, switched on by GPL_GRADER_SANDBOX), with or without bubblewrap.
+
+With bubblewrap (Debian `bubblewrap`) each test also runs in its own namespaces: it sees the system's
+/usr read-only, its own binary, a private size-limited /tmp and nothing else: not the lab, not
+solutions/, not other submissions, not the results; no network, no other processes, no capabilities.
+Where the kernel does not allow that (some containers), the grader says so in one line and falls back
+to running the test directly, with the write guard (guard.py) watching the lab's files.
+GPL_GRADER_SANDBOX=off in the grader's environment chooses the fallback on purpose.
+"""
+import dataclasses
+import os
+import pathlib
+import shutil
+import subprocess
+import threading
+
+MIB = 1 << 20
+DEFAULT_MEMORY_MIB = 1024     # a test of the course needs under 100 MiB (the 1000-sphere heap: ~20)
+DEFAULT_THREADS = 8           # the engine may use a thread per core; a runaway loop starts hundreds
+DEFAULT_FILE_MIB = 64         # no graded test writes files; the reports written for the grader are small
+SANITIZER_OPTIONS = ("ASAN_OPTIONS", "LSAN_OPTIONS", "UBSAN_OPTIONS")
+
+
+@dataclasses.dataclass(frozen=True)
+class Limits:
+    seconds: float            # wall clock, and as many seconds of CPU time
+    memory_mib: float
+    threads: int
+    file_mib: float
+
+    def cpu_seconds(self):
+        """The kernel's whole seconds of CPU time: a second above the wall clock's limit."""
+        return int(self.seconds + 0.999) + 1
+
+    def describe(self):
+        return (f"{self.seconds:g} s, {self.memory_mib:g} MiB of memory, {self.threads} threads, "
+                f"{self.file_mib:g} MiB per file")
+
+
+def limits_of(test, timeout):
+    """The limits of a graded test (its manifest entry), the grader's defaults where it sets none."""
+    return Limits(seconds=test.get("time_limit") or timeout,
+                  memory_mib=test.get("memory_limit") or DEFAULT_MEMORY_MIB,
+                  threads=int(test.get("thread_limit") or DEFAULT_THREADS),
+                  file_mib=test.get("file_limit") or DEFAULT_FILE_MIB)
+
+
+# ---- bubblewrap -----------------------------------------------------------------------------------
+
+def _system_binds():
+    """The system as a graded test sees it: /usr read-only (Debian's merged /usr: /lib, /lib64 and /bin
+    are links into it) and the dynamic loader's cache."""
+    args = ["--ro-bind", "/usr", "/usr"]
+    for link in ("lib", "lib64", "lib32", "bin", "sbin"):
+        target = pathlib.Path("/") / link
+        if target.is_symlink():
+            args += ["--symlink", os.readlink(target), str(target)]
+        elif target.is_dir():
+            args += ["--ro-bind", str(target), str(target)]
+    if pathlib.Path("/etc/ld.so.cache").is_file():
+        args += ["--ro-bind", "/etc/ld.so.cache", "/etc/ld.so.cache"]
+    return args
+
+
+NAMESPACES = ["--unshare-all", "--unshare-user", "--uid", "65534", "--gid", "65534", "--die-with-parent",
+              "--new-session", "--cap-drop", "ALL", "--proc", "/proc", "--dev", "/dev"]
+
+
+class Sandbox:
+    """Probed once per grader process: whether bubblewrap can make namespaces here."""
+
+    _lock = threading.Lock()
+    _probed = None
+
+    def __init__(self, bwrap, reason):
+        self.bwrap = bwrap      # the bwrap executable, or None: the fallback
+        self.reason = reason    # why not, for the report
+
+    @classmethod
+    def here(cls):
+        with cls._lock:
+            if cls._probed is None:
+                cls._probed = cls._probe()
+            return cls._probed
+
+    @classmethod
+    def _probe(cls):
+        if os.environ.get("GPL_GRADER_SANDBOX", "").lower() == "off":
+            return cls(None, "switched off (GPL_GRADER_SANDBOX=off)")
+        bwrap = shutil.which("bwrap")
+        if bwrap is None:
+            return cls(None, "bubblewrap is not installed (Debian package bubblewrap)")
+        true = shutil.which("true") or "/usr/bin/true"
+        try:
+            proc = subprocess.run([bwrap, *NAMESPACES, *_system_binds(), "--remount-ro", "/", true],
+                                  stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=20)
+        except (OSError, subprocess.TimeoutExpired) as e:
+            return cls(None, f"bubblewrap could not start ({e})")
+        if proc.returncode != 0:
+            why = proc.stdout.strip().splitlines()[-1] if proc.stdout.strip() else f"exit status {proc.returncode}"
+            return cls(None, f"the kernel does not let bubblewrap make namespaces here ({why})")
+        return cls(bwrap, None)
+
+    @property
+    def isolated(self):
+        return self.bwrap is not None
+
+    def describe(self):
+        """One line for the report."""
+        if self.isolated:
+            return ("sandbox: each test ran in bubblewrap (no view of the lab, solutions or other "
+                    "submissions; no network; no processes)")
+        return (f"sandbox: not used: {self.reason}; tests ran directly, without file or network isolation "
+                "(processes are still refused, the lab's files guarded)")
+
+    def command(self, binary, args, folder, limits, env):
+        """The command that runs `binary args` under the limits, in the sandbox when there is one.
+        folder is the test's own folder on the host: the report and trace files in it (made here) are
+        the only host files the test may write; inside the sandbox they are /grader/NAME."""
+        folder = pathlib.Path(folder)
+        file_bytes = int(limits.file_mib * MIB)
+        cpu = limits.cpu_seconds()
+        prlimit = shutil.which("prlimit")
+        wrap = ([prlimit, f"--fsize={file_bytes}", f"--cpu={cpu}:{cpu + 1}", "--core=0", "--"] if prlimit else [])
+        if not self.isolated:
+            return wrap + [str(binary), *args], {**os.environ, **env}, str(folder)
+        inside = {}
+        binds = []
+        for name in ("report.json", "trace.txt"):
+            (folder / name).touch()
+            inside[name] = f"/grader/{name}"
+            binds += ["--bind", str(folder / name), inside[name]]
+        target = f"/grader/{pathlib.Path(binary).name}"
+        binds += ["--ro-bind", str(pathlib.Path(binary).resolve()), target]
+        setenv = []
+        for key, value in env.items():
+            for name, path in inside.items():
+                value = value.replace(str(folder / name), path)
+            setenv += ["--setenv", key, value]
+        for key in SANITIZER_OPTIONS:  # the sanitizers' options travel, with their suppression files
+            if key in os.environ:
+                setenv += ["--setenv", key, os.environ[key]]
+                for part in os.environ[key].split(":"):
+                    if part.startswith("suppressions=") and pathlib.Path(part.split("=", 1)[1]).is_file():
+                        path = part.split("=", 1)[1]
+                        binds += ["--ro-bind", path, path]
+        args = [a.replace(str(folder / "report.json"), inside["report.json"]) for a in args]
+        cmd = [self.bwrap, *NAMESPACES, *_system_binds(), "--size", str(2 * file_bytes), "--tmpfs", "/tmp",
+               *binds, "--remount-ro", "/", "--remount-ro", "/dev", "--clearenv",
+               "--setenv", "PATH", "/usr/bin", *setenv, "--chdir", "/tmp", target, *args]
+        return wrap + cmd, {"PATH": os.environ.get("PATH", "/usr/bin")}, str(folder)
+
+
+# ---- What a running test uses ---------------------------------------------------------------------
+
+def descendants(pid):
+    """pid and every process below it (bubblewrap's own processes included)."""
+    found, stack = [], [pid]
+    while stack:
+        p = stack.pop()
+        found.append(p)
+        try:
+            for task in os.listdir(f"/proc/{p}/task"):
+                with open(f"/proc/{p}/task/{task}/children") as f:
+                    stack.extend(int(c) for c in f.read().split())
+        except (OSError, ValueError):
+            continue
+    return found
+
+
+def _usage(pid):
+    """(resident bytes, threads, command name) of one process, or None when it is gone."""
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            stat = f.read()
+        with open(f"/proc/{pid}/statm") as f:
+            resident = int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE")
+    except (OSError, ValueError, IndexError):
+        return None
+    name = stat[stat.index("(") + 1: stat.rindex(")")]
+    threads = int(stat[stat.rindex(")") + 2:].split()[17])
+    return resident, threads, name
+
+
+def test_processes(pid):
+    """The processes of a running test: those below pid that are not bubblewrap's or prlimit's."""
+    return [p for p in descendants(pid) if (_usage(p) or (0, 0, "bwrap"))[2] not in ("bwrap", "prlimit")]
+
+
+def usage(pid):
+    """(resident MiB, threads) of the test started as pid, bubblewrap's own processes left out."""
+    memory, threads = 0, 0
+    for p in test_processes(pid):
+        u = _usage(p)
+        if u:
+            memory += u[0]
+            threads += u[1]
+    return memory / MIB, threads
+
+
+# ---- Memory for tests running at once -------------------------------------------------------------
+
+def available_mib():
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) / 1024
+    except (OSError, ValueError):
+        pass
+    return None
+
+
+class MemoryBudget:
+    """Tests running at once reserve their memory limit from what the machine has available, so a
+    parallel batch never starts more memory-limited tests than the memory allows (one always runs)."""
+
+    def __init__(self, total_mib=None):
+        total = total_mib if total_mib is not None else available_mib()
+        self.total = 0.8 * total if total else float("inf")  # leave room for the grader and the build
+        self.used, self.running = 0.0, 0
+        self.cond = threading.Condition()
+
+    def slots(self, mib):
+        return max(1, int(self.total // mib)) if self.total != float("inf") else None
+
+    def reserve(self, mib):
+        with self.cond:
+            self.cond.wait_for(lambda: self.running == 0 or self.used + mib <= self.total)
+            self.used += mib
+            self.running += 1
+
+    def release(self, mib):
+        with self.cond:
+            self.used -= mib
+            self.running -= 1
+            self.cond.notify_all()
+
+
+BUDGET = MemoryBudget()
