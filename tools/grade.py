@@ -3,9 +3,10 @@
 reports points, hints, Gradescope results.json and JUnit XML.
 
   grade.py grade --build-dir DIR [--worksheet N] [--solutions | --submission SUBDIR]
-                 [--json FILE] [--junit FILE] [--timeout S] [--hidden-visibility V]
+                 [--json FILE] [--junit FILE] [--timeout S] [--memory MIB] [--hidden-visibility V]
       builds the variant (the student's assignments/ by default), grades it, prints the table.
   grade.py grade --build-dir DIR --batch DIR --out FILE.csv [--jobs N] [--worksheet N] [--timeout S]
+                [--memory MIB]
                 [--similarity]
       grades every submission folder in DIR, in parallel, and writes a gradebook (one row per
       submission, one column per test, the total) and FILE-results/NAME/results.json for each.
@@ -48,7 +49,7 @@ from grading.building import (Submission, build_submissions, cmake_build, config
 from grading.guard import Guard  # noqa: E402
 from grading.reports import (Progress, check_writable, gradebook, gradescope, report, table,  # noqa: E402
                              write_atomically)
-from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, limits_of  # noqa: E402
+from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of  # noqa: E402
 from grading.running import DEFAULT_TIMEOUT, failed_results, grade_binary, manifest, run_one  # noqa: E402
 
 # ---- Commands -------------------------------------------------------------------------------------
@@ -99,7 +100,7 @@ def cmd_grade(args):
         print("the code does not compile; every test scores zero. First errors:\n" + first_errors(log))
         results = failed_results(tests, "the code does not compile:\n" + first_errors(log))
         return report(results, variant, args, time.monotonic() - start)
-    results = grade_binary(build_dir / "tests" / f"autograder_{variant}", args.worksheet, args.timeout, guard)
+    results = grade_binary(build_dir / "tests" / f"autograder_{variant}", args.worksheet, args.defaults, guard)
     return report(results, variant, args, time.monotonic() - start, root=ROOT if variant == "assignments" else None)
 
 
@@ -129,10 +130,10 @@ def cmd_batch(args):
     if skipped:
         print(f"not submission folders, skipped: {', '.join(skipped)}", file=sys.stderr)
     jobs = args.jobs or os.cpu_count() or 1
-    fits = BUDGET.slots(DEFAULT_MEMORY_MIB)
+    fits = BUDGET.slots(args.memory)
     if fits is not None and jobs > fits:
         print(f"{jobs} jobs would need more memory than the machine has available: {fits} at once "
-              f"(each test may use {DEFAULT_MEMORY_MIB} MiB)", file=sys.stderr)
+              f"(each test may use {args.memory:g} MiB)", file=sys.stderr)
         jobs = fits
     build_dir = pathlib.Path(args.build_dir).resolve()
     sub_build = submission_build_dir(build_dir)
@@ -212,7 +213,7 @@ def cmd_report(args):
     check_writable(args.json)
     check_writable(args.junit)
     start = time.monotonic()
-    results = grade_binary(args.binary, args.worksheet, args.timeout)
+    results = grade_binary(args.binary, args.worksheet, args.defaults)
     return report(results, pathlib.Path(args.binary).name, args, time.monotonic() - start)
 
 
@@ -228,7 +229,7 @@ def cmd_selfcheck(args):
             raise GradeError(f"seeded mistake '{args.mutant}' names the test {spec['must_fail']}, which does not exist")
         if args.worksheet is None:
             args.worksheet = named["worksheet"]  # the other worksheets' tests would only take time
-    results = grade_binary(args.binary, args.worksheet, args.timeout)
+    results = grade_binary(args.binary, args.worksheet, args.defaults)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
@@ -249,7 +250,7 @@ def cmd_selfcheck(args):
         # The named test must lose its points in the graded run (failed or not run) AND fail when run
         # on its own: a prerequisite catching the mistake must not hide a test that cannot.
         alone, output, _ = run_one(pathlib.Path(args.binary).resolve(), spec["must_fail"],
-                                   limits_of(named, args.timeout))
+                                   limits_of(named, args.defaults))
         ok = not named["passed"] and named["score"] == 0 and total < maximum and not alone
         if ok:
             print(f"OK: '{spec['mistake']}' is caught by {spec['must_fail']}"
@@ -278,6 +279,9 @@ def main(argv):
         p.add_argument("--worksheet", type=int, help="grade only this worksheet's tests")
         p.add_argument("--timeout", type=float, default=DEFAULT_TIMEOUT,
                        help=f"seconds per test unless the test declares its own (default {DEFAULT_TIMEOUT:g})")
+        p.add_argument("--memory", type=float, default=DEFAULT_MEMORY_MIB, metavar="MIB",
+                       help=f"MiB of resident memory per test unless the test declares its own "
+                            f"(default {DEFAULT_MEMORY_MIB:g})")
         p.add_argument("--hidden-visibility", choices=("hidden", "after_published"), default="after_published",
                        help="Gradescope visibility of hidden tests (default after_published)")
 
@@ -319,6 +323,10 @@ def main(argv):
     args = parser.parse_args(argv)
     if getattr(args, "timeout", 1) <= 0:
         parser.error("--timeout must be a positive number of seconds")
+    if getattr(args, "memory", 1) <= 0:
+        parser.error("--memory must be a positive number of MiB")
+    if hasattr(args, "timeout"):
+        args.defaults = default_limits(args.timeout, args.memory)
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
         parser.error("--jobs must be at least 1")
     try:

@@ -103,10 +103,17 @@ SUBMISSIONS = {
                                    "#include <unistd.h>\n"),
     # Looks at the solutions, another submission and the batch's results: whatever it can open makes
     # its answer wrong, so full marks prove it saw none of them.
-    "snoops": integrator("        for (const char* path : {SNOOPED}) {\n"
-                         "            if (std::ifstream(path).good() || opendir(path)) b.velocity.x() += 1.0;\n"
-                         "        }\n", includes="#include <dirent.h>\n#include <fstream>\n"),
+    "snoops": integrator("        static const bool saw = [] {\n"
+                         "            for (const char* path : {SNOOPED_PATHS})\n"
+                         "                if (std::ifstream(path).good() || opendir(path)) return true;\n"
+                         "            return false;\n"
+                         "        }();\n"
+                         "        if (saw) b.velocity.x() += 1.0;\n", includes="#include <dirent.h>\n#include <fstream>\n"),
 }
+
+# MiB per test: the course's tests need under 10; this machine gives a process new memory at about
+# 150 MB/s, so the default 1024 MiB would take the growing cache longer than the 2 s time limit.
+MEMORY = 100
 
 # name -> {test: ("FAIL" | "not run", regex of its output)}; every test not named must pass.
 PASS = None
@@ -135,7 +142,7 @@ EXPECTED = {
     # In the sandbox the tests folder is not there to write into: the writes go nowhere.
     "writes_tests": {},
     "memory_hog": {
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^used more than 1024 MiB of memory in integrator\(\) and was stopped"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", rf"^used more than {MEMORY} MiB of memory in integrator\(\) and was stopped"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
     },
     "forks": {
@@ -178,7 +185,7 @@ def grade_batch(cls, names, env=None):
     for name in names:
         sub = batch / name
         sub.mkdir(parents=True)
-        text = SUBMISSIONS[name].replace("{SNOOPED}", ", ".join(f'"{p}"' for p in snooped))
+        text = SUBMISSIONS[name].replace("SNOOPED_PATHS", ", ".join(f'"{p}"' for p in snooped))
         (sub / "integrator.cpp").write_text(text)
         for hook in hooks.hook_files():
             if hook not in ("integrator.cpp", "student_scenes.cpp"):
@@ -189,7 +196,7 @@ def grade_batch(cls, names, env=None):
         fake.write_text("// a test file that lets everything pass\n")
     cls.gradebook = cls.tmp / "gradebook.csv"
     cls.proc = subprocess.run([str(ROOT / "lab"), "grade", "--batch", str(batch), "--out", str(cls.gradebook),
-                               "--timeout", "2"], capture_output=True, text=True, cwd=ROOT, timeout=500,
+                               "--timeout", "2", "--memory", str(MEMORY)], capture_output=True, text=True, cwd=ROOT, timeout=500,
                               env={**os.environ, **(env or {})})
     cls.results = {}
     for name in names:

@@ -160,6 +160,6 @@ def grade_submission(sub, args, sub_build, guard, reference):
         sub.results = failed_results(reference(), "the submission does not compile:\n" + sub.build_errors)
     else:
         binary = sub_build / "tests" / f"autograder_submission_{sub.variant}"
-        sub.results = grade_binary(binary, args.worksheet, args.timeout, guard)
+        sub.results = grade_binary(binary, args.worksheet, args.defaults, guard)
     sub.seconds = time.monotonic() - start
     return sub

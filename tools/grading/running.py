@@ -302,7 +302,7 @@ def select(tests, worksheet):
     return picked
 
 
-def grade_binary(binary, worksheet=None, timeout=DEFAULT_TIMEOUT, guard=None):
+def grade_binary(binary, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None):
     """Grades every selected test, prerequisites first. A test whose prerequisite lost its points
     is not run: it scores zero and says which prerequisite to fix first."""
     binary = pathlib.Path(binary).resolve()
@@ -314,7 +314,7 @@ def grade_binary(binary, worksheet=None, timeout=DEFAULT_TIMEOUT, guard=None):
             results[t["name"]] = {**t, "passed": False, "not_run": True, "score": 0.0, "seconds": 0.0,
                                   "output": f"not run: depends on {', '.join(blocked)}, which did not pass; fix that first"}
             continue
-        passed, output, seconds = run_one(binary, t["name"], limits_of(t, timeout), guard)
+        passed, output, seconds = run_one(binary, t["name"], limits_of(t, defaults), guard)
         results[t["name"]] = {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
                               "output": output, "seconds": seconds}
     return list(results.values())

@@ -48,12 +48,18 @@ class Limits:
                 f"{self.file_mib:g} MiB per file")
 
 
-def limits_of(test, timeout):
-    """The limits of a graded test (its manifest entry), the grader's defaults where it sets none."""
-    return Limits(seconds=test.get("time_limit") or timeout,
-                  memory_mib=test.get("memory_limit") or DEFAULT_MEMORY_MIB,
-                  threads=int(test.get("thread_limit") or DEFAULT_THREADS),
-                  file_mib=test.get("file_limit") or DEFAULT_FILE_MIB)
+def default_limits(seconds, memory_mib=DEFAULT_MEMORY_MIB):
+    return Limits(seconds, memory_mib, DEFAULT_THREADS, DEFAULT_FILE_MIB)
+
+
+def limits_of(test, defaults):
+    """The limits of a graded test (its manifest entry); defaults (Limits, or seconds) where it sets none."""
+    if not isinstance(defaults, Limits):
+        defaults = default_limits(defaults)
+    return Limits(seconds=test.get("time_limit") or defaults.seconds,
+                  memory_mib=test.get("memory_limit") or defaults.memory_mib,
+                  threads=int(test.get("thread_limit") or defaults.threads),
+                  file_mib=test.get("file_limit") or defaults.file_mib)
 
 
 # ---- bubblewrap -----------------------------------------------------------------------------------
