@@ -5,10 +5,14 @@ import io
 import json
 import os
 import pathlib
+import signal
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 import unittest
+from unittest import mock
 import xml.etree.ElementTree as ET
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
@@ -18,6 +22,7 @@ from grading import building  # noqa: E402
 from grading.guard import Guard  # noqa: E402
 from grading import reports  # noqa: E402
 from grading import running  # noqa: E402
+from grading import sandbox  # noqa: E402
 import hooks  # noqa: E402
 import similarity  # noqa: E402
 
@@ -45,6 +50,123 @@ class RunLimited(unittest.TestCase):
     def test_a_normal_command_reports_its_exit_status(self):
         rc, out, why = running.run_limited(["sh", "-c", "echo hello; exit 3"], timeout=10)
         self.assertEqual((rc, out.strip(), why), (3, "hello", None))
+
+
+class Limits(unittest.TestCase):
+    """Each limit stops what breaks it and is named for what it is; the sandbox's own command runs
+    small shell and Python programs here, so the kernel's limits are the real ones."""
+
+    def limited(self, program, limits, timeout=None):
+        with tempfile.TemporaryDirectory() as tmp:
+            cmd, env, cwd = sandbox.Sandbox.here().command(program[0], program[1:], tmp, limits, {})
+            start = time.monotonic()
+            rc, out, why = running.run_limited(cmd, timeout or limits.seconds, cwd=cwd, env=env, watch=running._watch(limits))
+            if sandbox.Sandbox.here().isolated and rc > 128:
+                rc = 128 - rc
+            return rc, out, why, time.monotonic() - start
+
+    def test_cpu_time_in_threads_cannot_outlast_the_limit(self):
+        # The wall clock's limit is out of reach (20 s): the kernel's CPU limit (1 + 1 s) ends the loop.
+        rc, _, why, seconds = self.limited(["/bin/sh", "-c", "while :; do :; done"], sandbox.default_limits(1),
+                                           timeout=20)
+        self.assertIsNone(why)
+        self.assertEqual(rc, -signal.SIGXCPU)
+        self.assertLess(seconds, 10)
+
+    def test_a_file_over_the_limit_is_stopped_by_the_kernel(self):
+        limits = sandbox.Limits(5, 100, 8, file_mib=1)
+        rc, _, why, _ = self.limited(["/bin/sh", "-c", "head -c 3000000 /dev/zero > dump.bin"], limits)
+        self.assertEqual(rc, -signal.SIGXFSZ)
+        rc, _, _, _ = self.limited(["/bin/sh", "-c", "head -c 500000 /dev/zero > dump.bin"], limits)
+        self.assertEqual(rc, 0, "half a MiB is within 1 MiB")
+
+    def test_memory_and_threads_are_watched(self):
+        python = "/usr/bin/python3"
+        grow = "import time; a = bytearray(120 << 20); time.sleep(10)"
+        _, _, why, _ = self.limited([python, "-c", grow], sandbox.Limits(20, 40, 8, 64))
+        self.assertEqual(why, "memory")
+        _, _, why, _ = self.limited([python, "-c", grow], sandbox.Limits(2, 400, 8, 64))
+        self.assertEqual(why, "timeout", "120 MiB is within 400 MiB")
+        spawn = "import threading, time\nfor _ in range(20): threading.Thread(target=time.sleep, args=(10,)).start()"
+        _, _, why, _ = self.limited([python, "-c", spawn], sandbox.Limits(20, 400, 8, 64))
+        self.assertEqual(why, "threads")
+
+    def test_each_breach_is_named(self):
+        limits = sandbox.Limits(2, 100, 8, 64)
+        with tempfile.TemporaryDirectory() as tmp:
+            tmp = pathlib.Path(tmp)
+            trace = tmp / "trace.txt"
+            trace.write_text("grader: forbidden system call: network\n")
+
+            def verdict(rc, why=None):
+                return running._verdict("S.T", rc, "", why, limits, tmp / "report.json", trace, "autograder")[1]
+
+            self.assertRegex(verdict(-signal.SIGSYS), "^tried to open a network connection")
+            trace.write_text("grader: forbidden system call: process\n")
+            self.assertRegex(verdict(-signal.SIGSYS), "^tried to start a process")
+            self.assertRegex(verdict(-signal.SIGXCPU), "^used more than 3 s of CPU time")
+            self.assertRegex(verdict(-signal.SIGXFSZ), "^wrote more than 64 MiB to a file")
+            self.assertRegex(verdict(-signal.SIGKILL, "memory"), "^used more than 100 MiB of memory")
+            self.assertRegex(verdict(-signal.SIGKILL, "threads"), "^ran more than 8 threads at once")
+            self.assertRegex(verdict(-signal.SIGKILL, "timeout"), "^timed out after 2 s")
+
+    def test_tests_declare_their_own_limits(self):
+        test = {"time_limit": 20, "memory_limit": 2048, "thread_limit": 0, "file_limit": 0}
+        self.assertEqual(sandbox.limits_of(test, sandbox.default_limits(5, 512)),
+                         sandbox.Limits(20, 2048, sandbox.DEFAULT_THREADS, sandbox.DEFAULT_FILE_MIB))
+        self.assertEqual(sandbox.limits_of({}, 5).memory_mib, sandbox.DEFAULT_MEMORY_MIB)
+        for t in running.manifest(binary("solutions")):
+            self.assertTrue(all(t[k] >= 0 for k in ("memory_limit", "thread_limit", "file_limit")), t)
+
+
+class Sandboxing(unittest.TestCase):
+    def test_this_machine_allows_the_sandbox(self):
+        here = sandbox.Sandbox.here()
+        self.assertTrue(here.isolated, here.reason)
+
+    def test_the_fallback_says_why(self):
+        with mock.patch("shutil.which", return_value=None):
+            self.assertIn("bubblewrap is not installed", sandbox.Sandbox._probe().describe())
+        with mock.patch.dict(os.environ, {"GPL_GRADER_SANDBOX": "off"}):
+            fallback = sandbox.Sandbox._probe()
+        self.assertFalse(fallback.isolated)
+        self.assertEqual(fallback.describe().count("\n"), 0, "one line")
+
+    def test_the_sandbox_hides_the_lab(self):
+        if not sandbox.Sandbox.here().isolated:
+            self.skipTest("no sandbox here")
+        probe = f"test -e {ROOT}/solutions || test -e {ROOT} || test -e /work || test -e /root || echo hidden"
+        rc, out, _, _ = Limits.limited(self, ["/bin/sh", "-c", probe], sandbox.default_limits(5))
+        self.assertEqual((rc, out.strip()), (0, "hidden"))
+
+    def test_a_batch_never_reserves_more_memory_than_there_is(self):
+        budget = sandbox.MemoryBudget(total_mib=2600)  # 80 %: 2080 MiB, room for two tests of 1024
+        self.assertEqual(budget.slots(1024), 2)
+        budget.reserve(1024)
+        budget.reserve(1024)
+        third = threading.Thread(target=budget.reserve, args=(1024,))
+        third.start()
+        third.join(0.3)
+        self.assertTrue(third.is_alive(), "a third test waits for memory")
+        budget.release(1024)
+        third.join(5)
+        self.assertFalse(third.is_alive())
+        self.assertEqual(budget.running, 2)
+
+
+class NextStep(unittest.TestCase):
+    def test_full_marks_say_what_comes_next(self):
+        done = [{"worksheet": 2, "passed": True}]
+        files = reports.worksheet_files(ROOT)
+        self.assertGreaterEqual(len(files), 3)
+        first, last = min(files), max(files)
+        self.assertEqual(reports.next_step([{"worksheet": first, "passed": True}], first, ROOT),
+                         f"full marks on worksheet {first}. Next: worksheet {first + 1}, {files[first + 1]}")
+        self.assertEqual(reports.next_step([{"worksheet": last, "passed": True}], last, ROOT),
+                         f"full marks on worksheet {last}: all worksheets done")
+        self.assertEqual(reports.next_step(done + [{"worksheet": last, "passed": True}], None, ROOT),
+                         "full marks: all worksheets done")
+        self.assertIsNone(reports.next_step(done + [{"worksheet": 2, "passed": False}], 2, ROOT))
 
 
 class Reports(unittest.TestCase):
@@ -253,6 +375,7 @@ class CommandLine(unittest.TestCase):
         for args, message in [(["grade", "--build-dir", "b", "--bogus"], "unrecognized arguments: --bogus"),
                               (["grade"], "required: --build-dir"),
                               (["grade", "--build-dir", "b", "--timeout", "0"], "--timeout must be a positive"),
+                              (["grade", "--build-dir", "b", "--memory", "-5"], "--memory must be a positive"),
                               (["report", "--binary", binary("solutions"), "--worksheet", "9"],
                                "no graded tests for worksheet 9"),
                               (["nonsense"], "invalid choice")]:
