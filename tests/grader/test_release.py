@@ -198,6 +198,8 @@ class GradescopeAutograder(unittest.TestCase):
         self.assertEqual(data["stdout_visibility"], "hidden", "the printout names hidden tests")
         self.assertEqual(data["max_score"], sum(t["points"] for t in running.manifest(
             pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")))
+        # The bundle grades with the lab's own grader, so in the same sandbox with the same limits.
+        self.assertIn("sandbox: each test ran in bubblewrap", data["output"])
 
     def test_a_whole_repository_with_a_mistake(self):
         text = (ROOT / "solutions" / "integrator.cpp").read_text()
