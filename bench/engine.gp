@@ -1,0 +1,23 @@
+# The plot of the engine benchmark. Run by ./lab bench engine as
+#   gnuplot -e "dir='build/engine'; ext='png'" bench/engine.gp   (and ext='svg')
+# It reads engine-scaling.dat (N, this engine's and Bullet's median ms per step) and writes
+# engine-scaling.EXT beside it: ms per step against N on log-log axes, with N^1 for reference.
+if (!exists("dir")) dir = 'build/engine'
+if (!exists("ext")) ext = 'png'
+if (ext eq 'svg') { set terminal svg size 800,560 dynamic font 'sans,12' } else { set terminal pngcairo size 800,560 font 'sans,10' }
+set output dir.'/engine-scaling.'.ext
+data = dir.'/engine-scaling.dat'
+set title 'A heap of N spheres dropped on a plane: wall time per step (median), one run'
+set xlabel 'spheres N'
+set ylabel 'ms per step'
+set logscale xy
+set format x '10^{%L}'
+set format y '10^{%L}'
+set grid
+set key top left
+stats data using 1:2 nooutput
+first_n = STATS_min_x
+first_ms = STATS_min_y
+plot data using 1:2 with linespoints lw 2 pt 7 lc 1 title 'this engine', \
+     data using 1:3 with linespoints lw 2 pt 5 lc 2 title 'Bullet', \
+     first_ms * x / first_n with lines dt 2 lc 0 title 'proportional to N'

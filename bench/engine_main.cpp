@@ -1,0 +1,144 @@
+// gpl-bench-engine: this engine against Bullet on the same heap of spheres (./lab bench engine),
+// side by side from one run: time per step, contacts per step and the quality of the settled heap,
+// for heaps of growing size, with the fitted scaling exponent of each engine; and the cost of
+// integration alone against a bare loop over packed arrays.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <sstream>
+#include <vector>
+
+#include "gpl/body.h"
+#include "gpl/engine.h"
+#include "heap.h"
+#include "report.h"
+
+namespace {
+
+using gpl::Vec3;
+using gpl::bench::HeapRun;
+using gpl::study::fixed;
+using gpl::study::pad;
+using gpl::study::sci;
+
+// Least-squares slope of log(ms per step) against log(N): the scaling exponent (1: linear).
+double scalingExponent(const std::vector<HeapRun>& runs) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (const HeapRun& r : runs) {
+        if (r.medianMs <= 0.0) continue;
+        const double x = std::log(static_cast<double>(r.bodies)), y = std::log(r.medianMs);
+        sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
+    }
+    if (n < 2) return std::nan("");
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+// ns per body and step: the engine's free fall (gravity and integration stages only) and a bare loop
+// over packed arrays of positions and velocities doing the same arithmetic.
+void integrationAlone(std::size_t n, std::size_t steps, std::ostream& out) {
+    gpl::PhysicsEngine e;
+    e.setTimeStep(gpl::bench::kTimeStep);
+    for (std::size_t i = 0; i < n; ++i) {
+        e.add(gpl::sphere("s" + std::to_string(i), 0.5, 1.0).at(Vec3(1.2 * static_cast<double>(i), 10.0, 0.0)));
+    }
+    auto start = std::chrono::steady_clock::now();
+    for (std::size_t s = 0; s < steps; ++s) e.step();
+    const double ours = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+
+    std::vector<double> x(3 * n), v(3 * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) x[3 * i] = 1.2 * static_cast<double>(i), x[3 * i + 1] = 10.0;
+    const double h = gpl::bench::kTimeStep, g[3] = {0.0, -9.81, 0.0};
+    start = std::chrono::steady_clock::now();
+    for (std::size_t s = 0; s < steps; ++s) {
+        for (std::size_t i = 0; i < 3 * n; ++i) {
+            v[i] += h * g[i % 3];
+            x[i] += h * v[i];
+        }
+    }
+    const double bare = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+    volatile double sink = x[1] + e.bodies().back().position.y();  // keeps both loops
+    (void)sink;
+    const double perOurs = ours / static_cast<double>(n * steps), perBare = bare / static_cast<double>(n * steps);
+    out << "\nintegration alone: " << n << " bodies in free fall, " << steps << " steps\n"
+        << "  this engine (whole step, gravity and integration stages): " << fixed(perOurs, 1)
+        << " ns per body and step\n"
+        << "  bare loop over packed arrays:                             " << fixed(perBare, 1)
+        << " ns per body and step\n"
+        << "  ratio: " << fixed(perOurs / perBare, 1) << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"This engine against Bullet on the same heap of spheres (./lab bench engine)"};
+    std::vector<std::size_t> sizes{100, 300, 1000, 3000, 8000};
+    std::string out = "build/engine";
+    bool skipBullet = false;
+    app.add_option("--sizes", sizes, "numbers of spheres, e.g. --sizes 1000 8000")->check(CLI::Range(1, 1000000));
+    app.add_option("--out", out, "folder for engine.csv and the plot's data");
+    app.add_flag("--no-bullet", skipBullet, "this engine only");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
+    const bool bullet = gpl::bench::hasBullet() && !skipBullet;
+    if (!gpl::bench::hasBullet() && !skipBullet) {
+        std::cerr << "gpl-bench-engine: built without Bullet (Debian libbullet-dev); ./lab bench engine installs it\n";
+        return 2;
+    }
+    try {
+        gpl::study::Output output(out);
+        std::cout << "heap of spheres (r = 0.5 m, 1 kg, lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
+                  << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling\n"
+                  << "this engine has no friction yet (worksheet 7): its heap spreads where Bullet's (friction "
+                  << gpl::bench::kFriction << ") stands\n\n";
+        const std::vector<std::size_t> widths{8, 8, 7, 12, 12, 9, 12, 12, 10, 12};
+        const char* header[] = {"N", "engine", "steps", "median ms", "p90 ms", "ours/B", "contacts", "deepest m",
+                                "height m", "KE end J"};
+        for (std::size_t c = 0; c < widths.size(); ++c) std::cout << pad(header[c], widths[c]);
+        std::cout << '\n';
+        auto csv = output.open("engine.csv");
+        csv << "bodies,engine,steps,median_ms,p90_ms,contacts_per_step,deepest_m,height_m,kinetic_j\n";
+        std::vector<HeapRun> ours, theirs;
+        for (std::size_t n : sizes) {
+            const double seconds = gpl::bench::settleTime(n);
+            std::vector<HeapRun> pair{gpl::bench::runOurs(n, seconds)};
+            if (bullet) pair.push_back(gpl::bench::runBullet(n, seconds));
+            ours.push_back(pair[0]);
+            if (bullet) theirs.push_back(pair[1]);
+            for (const HeapRun& r : pair) {
+                const std::string ratio =
+                    bullet && &r == &pair[0] ? fixed(pair[0].medianMs / pair[1].medianMs, 2) : std::string("");
+                const std::string cells[] = {std::to_string(n), r.engine, std::to_string(r.steps), fixed(r.medianMs, 3),
+                                             fixed(r.p90Ms, 3), ratio, fixed(r.contactsPerStep, 0), sci(r.deepest),
+                                             fixed(r.height, 2), sci(r.kinetic)};
+                for (std::size_t c = 0; c < widths.size(); ++c) std::cout << pad(cells[c], widths[c]);
+                std::cout << std::endl;
+                csv << n << ',' << r.engine << ',' << r.steps << ',' << r.medianMs << ',' << r.p90Ms << ','
+                    << r.contactsPerStep << ',' << r.deepest << ',' << r.height << ',' << r.kinetic << '\n';
+            }
+        }
+        auto dat = output.open("engine-scaling.dat");
+        dat << "# bodies ours_median_ms bullet_median_ms\n";
+        for (std::size_t i = 0; i < ours.size(); ++i) {
+            dat << ours[i].bodies << ' ' << ours[i].medianMs << ' ' << (bullet ? theirs[i].medianMs : std::nan(""))
+                << '\n';
+        }
+        std::cout << "\nscaling exponent of ms per step against N (least squares on log-log): this engine "
+                  << fixed(scalingExponent(ours), 2);
+        if (bullet) std::cout << ", Bullet " << fixed(scalingExponent(theirs), 2);
+        std::cout << '\n';
+        integrationAlone(1000, 2000, std::cout);
+        std::cout << "\nwrote";
+        for (const std::string& f : output.written()) std::cout << ' ' << out << '/' << f;
+        std::cout << '\n';
+    } catch (const std::exception& e) {
+        std::cerr << "gpl-bench-engine: " << e.what() << '\n';
+        return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,54 @@
+// The heap both engines of `./lab bench engine` simulate: N spheres (radius 0.5 m, 1 kg) on a
+// jittered cubic lattice of spacing 1.2 m (fixed seed), dropped on a static plane y = 0, restitution
+// 0, friction 0.5 where the engine has friction, fixed steps of 1/60 s, 10 solver iterations.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "gpl/math.h"
+
+namespace gpl::bench {
+
+constexpr double kRadius = 0.5;       // m
+constexpr double kMass = 1.0;         // kg
+constexpr double kSpacing = 1.2;      // m between lattice points
+constexpr double kFriction = 0.5;
+constexpr double kTimeStep = 1.0 / 60.0;  // s
+constexpr int kIterations = 10;       // sweeps of the contact solver per step
+
+/// The lattice points of the heap: side = ceil(cbrt(n)) along x and z, as many layers as it takes,
+/// centred on the y axis, the lowest 1 m above the plane, each jittered by up to 0.05 m.
+std::vector<Vec3> heapPositions(std::size_t n);
+
+/// What one engine did on one heap: time per step and the quality of the answer.
+struct HeapRun {
+    std::string engine;
+    std::size_t bodies = 0;
+    std::size_t steps = 0;
+    double medianMs = 0.0;       ///< per step
+    double p90Ms = 0.0;          ///< per step
+    double contactsPerStep = 0.0;  ///< mean over the steps
+    double deepest = 0.0;        ///< m: largest overlap between spheres or with the plane, at the end
+    double height = 0.0;         ///< m: the top of the settled heap (highest sphere's top)
+    double kinetic = 0.0;        ///< J: kinetic energy at the end (settled: near 0)
+};
+
+/// Median and 90th percentile of per-step times (ms), into run.
+void summarise(std::vector<double> stepMs, HeapRun& run);
+
+/// The quality figures of a state (positions and velocities of the spheres), into run.
+void measureQuality(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, HeapRun& run);
+
+/// Simulated time (s) the heap of n spheres needs to fall and settle: the fall from the top layer
+/// plus 3 s.
+double settleTime(std::size_t n);
+
+/// This engine (the hooks it is linked with) on the heap.
+HeapRun runOurs(std::size_t n, double seconds);
+/// Bullet's default pipeline on the same heap; only when built with Bullet (hasBullet()).
+HeapRun runBullet(std::size_t n, double seconds);
+bool hasBullet();
+
+}  // namespace gpl::bench
