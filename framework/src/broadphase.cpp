@@ -19,7 +19,7 @@ bool reachesPlane(const Aabb& box, const Vec3& origin, const Vec3& n) {
 
 Vec3 planeNormal(const Body& plane) { return plane.orientation * plane.normal; }
 
-// The pair test both the sweep and the brute force use (the sweep has checked one axis already).
+// The brute force's pair test (the sweep makes the same two checks on its packed entries).
 bool mayTouch(const Body& p, const Body& q, const Aabb& boxP, const Aabb& boxQ) {
     if (p.isStatic() && q.isStatic()) return false;
     return overlap(boxP, boxQ);
@@ -40,42 +40,44 @@ Aabb boundingBox(const Body& b, double margin) {
 
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin) {
     pairs_.clear();
-    order_.clear();
+    entries_.clear();
     planes_.clear();
-    boxes_.resize(bodies.size());
     Vec3 sum = Vec3::Zero(), sumSquares = Vec3::Zero();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         if (bodies[i].shape == Shape::Plane) {
             planes_.push_back(i);
             continue;
         }
-        boxes_[i] = boundingBox(bodies[i], margin);
-        order_.push_back(i);
+        entries_.push_back({0.0, 0.0, boundingBox(bodies[i], margin), i, bodies[i].isStatic()});
         sum += bodies[i].position;
         sumSquares += bodies[i].position.cwiseProduct(bodies[i].position);
     }
 
     // Sweep along the axis on which the centres spread most.
-    const double n = static_cast<double>(std::max<std::size_t>(order_.size(), 1));
+    const double n = static_cast<double>(std::max<std::size_t>(entries_.size(), 1));
     const Vec3 variance = sumSquares / n - (sum / n).cwiseProduct(sum / n);
     int axis = 0;
     variance.maxCoeff(&axis);
-    std::sort(order_.begin(), order_.end(),
-              [&](std::size_t p, std::size_t q) { return boxes_[p].min[axis] < boxes_[q].min[axis]; });
-    for (std::size_t k = 0; k < order_.size(); ++k) {
-        const std::size_t i = order_[k];
-        for (std::size_t m = k + 1; m < order_.size(); ++m) {
-            const std::size_t j = order_[m];
-            if (boxes_[j].min[axis] > boxes_[i].max[axis]) break;
-            if (mayTouch(bodies[i], bodies[j], boxes_[i], boxes_[j])) pairs_.push_back({std::min(i, j), std::max(i, j)});
+    for (Entry& e : entries_) {
+        e.lo = e.box.min[axis];
+        e.hi = e.box.max[axis];
+    }
+    std::sort(entries_.begin(), entries_.end(), [](const Entry& p, const Entry& q) { return p.lo < q.lo; });
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+        const Entry& p = entries_[k];
+        for (std::size_t m = k + 1; m < entries_.size(); ++m) {
+            const Entry& q = entries_[m];
+            if (q.lo > p.hi) break;
+            if (p.isStatic && q.isStatic) continue;
+            if (overlap(p.box, q.box)) pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
         }
     }
 
-    for (std::size_t p : planes_) {
-        const Vec3 normal = planeNormal(bodies[p]);
-        for (std::size_t i : order_) {
-            if (bodies[i].isStatic() || !reachesPlane(boxes_[i], bodies[p].position, normal)) continue;
-            pairs_.push_back({std::min(i, p), std::max(i, p)});
+    for (std::size_t plane : planes_) {
+        const Vec3 normal = planeNormal(bodies[plane]);
+        for (const Entry& e : entries_) {
+            if (e.isStatic || !reachesPlane(e.box, bodies[plane].position, normal)) continue;
+            pairs_.push_back({std::min(e.index, plane), std::max(e.index, plane)});
         }
     }
     std::sort(pairs_.begin(), pairs_.end());

@@ -42,8 +42,15 @@ public:
     const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0);
 
 private:
-    std::vector<Aabb> boxes_;
-    std::vector<std::size_t> order_;
+    /// A body's box as the sweep reads it: packed and sorted, so the inner loop walks memory in order
+    /// and never touches the (large) bodies themselves.
+    struct Entry {
+        double lo, hi;  ///< the box's extent along the sweep axis
+        Aabb box;
+        std::size_t index;
+        bool isStatic;
+    };
+    std::vector<Entry> entries_;
     std::vector<std::size_t> planes_;
     std::vector<BodyPair> pairs_;
 };
