@@ -1,0 +1,172 @@
+// gpl-bench-stages: what each stage of the time step costs (./lab bench stages), with Google
+// Benchmark (Debian libbenchmark-dev). N is the number of spheres: a heap packed so that
+// neighbours overlap (every contact stage has work), or a free fall (no contact at all).
+//
+//   BM_BroadPhase/N            sort and sweep over the heap
+//   BM_SphereSphere, BM_SpherePlane, BM_ResolveInterpenetration, BM_ApplyCollisionImpulse
+//                              one call of each contact kernel
+//   BM_DetectCollisions/N, BM_Interpenetration/N, BM_Impulses/N
+//                              one stage on the heap (the state is put back, untimed, before each)
+//   BM_Integration/N           integrate() on the free fall
+//   BM_StepFreeFall/N and BM_GravityAndIntegrationOnly/N
+//                              a whole step of a scene that requires gravity and integration, and
+//                              those two stages called directly: equal times show that the
+//                              stages a scene does not require cost nothing
+#include <benchmark/benchmark.h>
+
+#include "gpl/body.h"
+#include "gpl/broadphase.h"
+#include "gpl/collision.h"
+#include "gpl/engine.h"
+#include "gpl/response.h"
+#include "heap.h"
+
+namespace {
+
+using gpl::PhysicsEngine;
+using gpl::Stage;
+using gpl::Vec3;
+
+// The heap's lattice squeezed to 0.95 m spacing: every neighbour overlaps a sphere of radius 0.5 m.
+void packedHeap(PhysicsEngine& e, std::size_t n) {
+    e.setRequiredStages({Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                         Stage::Interpenetration, Stage::CollisionImpulses});
+    e.setTimeStep(gpl::bench::kTimeStep);
+    e.add(gpl::plane("ground", Vec3::UnitY()));
+    std::size_t i = 0;
+    for (const Vec3& p : gpl::bench::heapPositions(n)) {
+        const Vec3 packed(0.95 / gpl::bench::kSpacing * p.x(), 0.5 + 0.95 / gpl::bench::kSpacing * (p.y() - 1.0),
+                          0.95 / gpl::bench::kSpacing * p.z());
+        e.add(gpl::sphere("s" + std::to_string(i++), gpl::bench::kRadius, gpl::bench::kMass)
+                  .at(packed)
+                  .moving(Vec3(0.0, -1.0, 0.0))
+                  .bouncy(0.0));
+    }
+}
+
+void freeFall(PhysicsEngine& e, std::size_t n) {
+    e.setTimeStep(gpl::bench::kTimeStep);
+    for (std::size_t i = 0; i < n; ++i) {
+        e.add(gpl::sphere("s" + std::to_string(i), 0.5, 1.0).at(Vec3(1.2 * static_cast<double>(i), 1e6, 0.0)));
+    }
+}
+
+void BM_BroadPhase(benchmark::State& state) {
+    PhysicsEngine e;
+    packedHeap(e, static_cast<std::size_t>(state.range(0)));
+    gpl::BroadPhase broadPhase;
+    for (auto _ : state) benchmark::DoNotOptimize(broadPhase.findPairs(e.bodies(), gpl::kContactMargin).size());
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_BroadPhase)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_SphereSphere(benchmark::State& state) {
+    const gpl::Body a = gpl::sphere("a", 0.5, 1.0);
+    const gpl::Body b = gpl::sphere("b", 0.5, 1.0).at(Vec3(0.3, 0.8, 0.1));
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::sphereSphere(a, b));
+}
+BENCHMARK(BM_SphereSphere);
+
+void BM_SpherePlane(benchmark::State& state) {
+    const gpl::Body s = gpl::sphere("s", 0.5, 1.0).at(Vec3(0.3, 0.4, 0.1));
+    const gpl::Body p = gpl::plane("p", Vec3::UnitY());
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::spherePlane(s, p));
+}
+BENCHMARK(BM_SpherePlane);
+
+void BM_ResolveInterpenetration(benchmark::State& state) {
+    gpl::Body a = gpl::sphere("a", 0.5, 1.0);
+    gpl::Body b = gpl::sphere("b", 0.5, 2.0).at(Vec3(0.0, 0.9, 0.0));
+    const gpl::Contact c = gpl::Contact::at(Vec3(0.0, 0.45, 0.0), Vec3::UnitY(), 0.1);
+    for (auto _ : state) {
+        gpl::resolveInterpenetration(c, a, b);  // the same contact again: the same work every time
+        benchmark::DoNotOptimize(a.position);
+        benchmark::DoNotOptimize(b.position);
+    }
+}
+BENCHMARK(BM_ResolveInterpenetration);
+
+void BM_ApplyCollisionImpulse(benchmark::State& state) {
+    gpl::Body a = gpl::sphere("a", 0.5, 1.0);
+    gpl::Body b = gpl::sphere("b", 0.5, 2.0).at(Vec3(0.0, 0.9, 0.0));
+    const gpl::Contact c = gpl::Contact::at(Vec3(0.0, 0.45, 0.0), Vec3::UnitY(), 0.1);
+    for (auto _ : state) {
+        a.velocity = Vec3(0.0, 1.0, 0.0);  // approaching every time
+        b.velocity = Vec3(0.0, -1.0, 0.0);
+        gpl::applyCollisionImpulse(c, a, b);
+        benchmark::DoNotOptimize(a.velocity);
+        benchmark::DoNotOptimize(b.velocity);
+    }
+}
+BENCHMARK(BM_ApplyCollisionImpulse);
+
+// One contact stage on the packed heap, from the same state every time.
+template <class Stages>
+void heapStage(benchmark::State& state, Stages stages) {
+    PhysicsEngine e;
+    packedHeap(e, static_cast<std::size_t>(state.range(0)));
+    const PhysicsEngine::State start = e.state();
+    for (auto _ : state) {
+        state.PauseTiming();
+        e.restore(start);
+        stages(e, false);  // what the stage needs first (the contacts), untimed
+        state.ResumeTiming();
+        stages(e, true);
+    }
+    state.SetComplexityN(state.range(0));
+}
+
+void BM_DetectCollisions(benchmark::State& state) {
+    heapStage(state, [](PhysicsEngine& e, bool timed) {
+        if (timed) e.detectCollisions();
+    });
+}
+BENCHMARK(BM_DetectCollisions)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_Interpenetration(benchmark::State& state) {
+    heapStage(state, [](PhysicsEngine& e, bool timed) {
+        if (timed) e.resolveInterpenetrations();
+        else e.detectCollisions();
+    });
+}
+BENCHMARK(BM_Interpenetration)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_Impulses(benchmark::State& state) {
+    heapStage(state, [](PhysicsEngine& e, bool timed) {
+        if (timed) e.applyCollisionImpulses();
+        else e.detectCollisions();
+    });
+}
+BENCHMARK(BM_Impulses)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_Integration(benchmark::State& state) {
+    PhysicsEngine e;
+    freeFall(e, static_cast<std::size_t>(state.range(0)));
+    e.updateConstantAcceleration();
+    for (auto _ : state) e.integrate();
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_Integration)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_StepFreeFall(benchmark::State& state) {
+    PhysicsEngine e;
+    freeFall(e, static_cast<std::size_t>(state.range(0)));
+    for (auto _ : state) e.step();
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_StepFreeFall)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_GravityAndIntegrationOnly(benchmark::State& state) {
+    PhysicsEngine e;
+    freeFall(e, static_cast<std::size_t>(state.range(0)));
+    for (auto _ : state) {
+        e.updateConstantAcceleration();
+        e.integrate();
+    }
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_GravityAndIntegrationOnly)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+}  // namespace
+
+BENCHMARK_MAIN();
