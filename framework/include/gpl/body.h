@@ -14,36 +14,42 @@ enum class Shape { Sphere, Box, Plane };
 const char* shapeName(Shape shape);
 
 struct Body {
-    std::string name;  ///< unique within a scene; shown by the runner, the viewer and the grader
+    // The fields are grouped by meaning; the groups are ordered by how often a time step reads them,
+    // so that what the particle and sphere stages read (shape, radius, position, velocity,
+    // acceleration, masses, material) shares the body's first two cache lines.
     Shape shape = Shape::Sphere;
+    double radius = 0.0;  ///< sphere radius (m)
 
-    // Geometry, in the body's own frame.
-    double radius = 0.0;              ///< sphere radius (m)
-    Vec3 halfExtents = Vec3::Zero();  ///< box half sizes along the body axes (m)
-    Vec3 normal = Vec3::UnitY();      ///< plane normal (unit, body frame); the plane passes through position
+    // Pose and velocity.
+    Vec3 position = Vec3::Zero();  ///< centre of mass in world coordinates (m)
+    Vec3 velocity = Vec3::Zero();  ///< linear velocity of the centre of mass, world frame (m/s)
 
-    // Pose.
-    Vec3 position = Vec3::Zero();         ///< centre of mass in world coordinates (m)
-    Quat orientation = Quat::Identity();  ///< rotation from body to world frame (unit quaternion)
-
-    // Velocity.
-    Vec3 velocity = Vec3::Zero();         ///< linear velocity of the centre of mass, world frame (m/s)
-    Vec3 angularVelocity = Vec3::Zero();  ///< angular velocity, world frame (rad/s)
+    // Accumulators, rebuilt every time step by the force stages.
+    Vec3 acceleration = Vec3::Zero();  ///< constant acceleration such as gravity (m/s^2)
 
     // Mass properties. A static body has invMass 0, infinite mass and a zero inverse inertia.
-    double mass = 1.0;                   ///< kg
-    double invMass = 1.0;                ///< 1/kg; 0 for static bodies
-    Mat3 inertia = Mat3::Identity();     ///< inertia tensor about the centre of mass, body frame (kg m^2)
-    Mat3 invInertia = Mat3::Identity();  ///< its inverse (1/(kg m^2)); zero for static bodies
+    double mass = 1.0;     ///< kg
+    double invMass = 1.0;  ///< 1/kg; 0 for static bodies
 
     // Material.
     double restitution = 0.5;  ///< coefficient of restitution, 0 (plastic) .. 1 (elastic)
     double friction = 0.5;     ///< Coulomb friction coefficient (dimensionless)
 
-    // Accumulators, rebuilt every time step by the force stages.
-    Vec3 acceleration = Vec3::Zero();  ///< constant acceleration such as gravity (m/s^2)
-    Vec3 force = Vec3::Zero();         ///< sum of applied forces (N)
-    Vec3 torque = Vec3::Zero();        ///< sum of applied torques about the centre of mass (N m)
+    // Rotation: pose, velocity and mass properties.
+    Quat orientation = Quat::Identity();  ///< rotation from body to world frame (unit quaternion)
+    Vec3 angularVelocity = Vec3::Zero();  ///< angular velocity, world frame (rad/s)
+    Mat3 inertia = Mat3::Identity();      ///< inertia tensor about the centre of mass, body frame (kg m^2)
+    Mat3 invInertia = Mat3::Identity();   ///< its inverse (1/(kg m^2)); zero for static bodies
+
+    // Geometry of the other shapes, in the body's own frame.
+    Vec3 halfExtents = Vec3::Zero();  ///< box half sizes along the body axes (m)
+    Vec3 normal = Vec3::UnitY();      ///< plane normal (unit, body frame); the plane passes through position
+
+    // Accumulators of forces and torques.
+    Vec3 force = Vec3::Zero();   ///< sum of applied forces (N)
+    Vec3 torque = Vec3::Zero();  ///< sum of applied torques about the centre of mass (N m)
+
+    std::string name;  ///< unique within a scene; shown by the runner, the viewer and the grader
 
     bool isStatic() const { return invMass == 0.0; }
 
