@@ -78,9 +78,12 @@ int main(int argc, char** argv) {
     std::vector<std::size_t> sizes{100, 300, 1000, 3000, 8000};
     std::string out = "build/engine";
     bool skipBullet = false;
+    int threads = gpl::PhysicsEngine().threads();
     app.add_option("--sizes", sizes, "numbers of spheres, e.g. --sizes 1000 8000")->check(CLI::Range(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");
+    app.add_option("--threads", threads, "threads of this engine's broad phase (1 or 2; default: 2 on two cores)")
+        ->check(CLI::Range(1, 2));
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -95,7 +98,8 @@ int main(int argc, char** argv) {
     try {
         gpl::study::Output output(out);
         std::cout << "heap of spheres (r = 0.5 m, 1 kg, lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
-                  << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling\n"
+                  << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling; "
+                  << "this engine's broad phase on " << threads << (threads == 1 ? " thread\n" : " threads\n")
                   << "this engine has no friction yet (worksheet 7): its heap spreads where Bullet's (friction "
                   << gpl::bench::kFriction << ") stands\n\n";
         const std::vector<std::size_t> widths{8, 8, 7, 12, 12, 9, 12, 12, 10, 12};
@@ -108,7 +112,7 @@ int main(int argc, char** argv) {
         std::vector<HeapRun> ours, theirs;
         for (std::size_t n : sizes) {
             const double seconds = gpl::bench::settleTime(n);
-            std::vector<HeapRun> pair{gpl::bench::runOurs(n, seconds)};
+            std::vector<HeapRun> pair{gpl::bench::runOurs(n, seconds, threads)};
             if (bullet) pair.push_back(gpl::bench::runBullet(n, seconds));
             ours.push_back(pair[0]);
             if (bullet) theirs.push_back(pair[1]);

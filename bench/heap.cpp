@@ -83,8 +83,9 @@ double settleTime(std::size_t n) {
     return std::sqrt(2.0 * top / 9.81) + 3.0;
 }
 
-HeapRun runOurs(std::size_t n, double seconds) {
+HeapRun runOurs(std::size_t n, double seconds, int threads) {
     PhysicsEngine e;
+    e.setThreads(threads);
     e.setRequiredStages({Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
                          Stage::Interpenetration, Stage::CollisionImpulses});
     e.setTimeStep(kTimeStep);

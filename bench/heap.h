@@ -45,8 +45,8 @@ void measureQuality(const std::vector<Vec3>& positions, const std::vector<Vec3>&
 /// plus 3 s.
 double settleTime(std::size_t n);
 
-/// This engine (the hooks it is linked with) on the heap.
-HeapRun runOurs(std::size_t n, double seconds);
+/// This engine (the hooks it is linked with) on the heap, its broad phase with this many threads.
+HeapRun runOurs(std::size_t n, double seconds, int threads);
 /// Bullet's default pipeline on the same heap; only when built with Bullet (hasBullet()).
 HeapRun runBullet(std::size_t n, double seconds);
 bool hasBullet();

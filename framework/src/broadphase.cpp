@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
+#include <thread>
 
 namespace gpl {
 namespace {
@@ -63,14 +65,15 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
         e.hi = e.box.max[axis];
     }
     std::sort(entries_.begin(), entries_.end(), [](const Entry& p, const Entry& q) { return p.lo < q.lo; });
-    for (std::size_t k = 0; k < entries_.size(); ++k) {
-        const Entry& p = entries_[k];
-        for (std::size_t m = k + 1; m < entries_.size(); ++m) {
-            const Entry& q = entries_[m];
-            if (q.lo > p.hi) break;
-            if (p.isStatic && q.isStatic) continue;
-            if (overlap(p.box, q.box)) pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
-        }
+    if (threads_ > 1 && entries_.size() >= kParallelFrom) {
+        const std::size_t half = entries_.size() / 2;
+        secondHalf_.clear();
+        auto second = std::async(std::launch::async, [this, half] { sweep(half, entries_.size(), secondHalf_); });
+        sweep(0, half, pairs_);
+        second.get();
+        pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
+    } else {
+        sweep(0, entries_.size(), pairs_);
     }
 
     for (std::size_t plane : planes_) {
@@ -83,6 +86,20 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
     std::sort(pairs_.begin(), pairs_.end());
     return pairs_;
 }
+
+void BroadPhase::sweep(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
+    for (std::size_t k = first; k < last; ++k) {
+        const Entry& p = entries_[k];
+        for (std::size_t m = k + 1; m < entries_.size(); ++m) {
+            const Entry& q = entries_[m];
+            if (q.lo > p.hi) break;
+            if (p.isStatic && q.isStatic) continue;
+            if (overlap(p.box, q.box)) pairs.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+        }
+    }
+}
+
+int BroadPhase::defaultThreads() { return std::thread::hardware_concurrency() >= 2 ? 2 : 1; }
 
 std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies, double margin) {
     std::vector<BodyPair> pairs;

@@ -161,6 +161,11 @@ void PhysicsEngine::setContactIterations(int iterations) {
     contactIterations_ = iterations;
 }
 
+void PhysicsEngine::setThreads(int threads) {
+    if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+    broadPhase_.setThreads(threads);
+}
+
 void PhysicsEngine::setContainer(const Vec3& centre, double radius) {
     if (!isFinite(centre)) throw std::invalid_argument("container centre must be finite");
     if (!std::isfinite(radius) || radius <= 0.0) {

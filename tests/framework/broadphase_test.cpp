@@ -46,6 +46,22 @@ TEST(BroadPhase, SamePairsAsTestingEveryPair) {
     EXPECT_GT(pairsSeen, 1000u);  // the scenes are dense enough to test something
 }
 
+TEST(BroadPhase, TwoThreadsFindTheSamePairs) {
+    // Scenes above the size where the sweep splits in two: the same pairs as one thread and as
+    // testing every pair.
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+        const std::vector<Body> bodies =
+            randomScene(seed, static_cast<int>(BroadPhase::kParallelFrom) + 500 * seed, 2, 30.0);
+        BroadPhase one, two;
+        one.setThreads(1);
+        two.setThreads(2);
+        const std::vector<BodyPair> expected = bruteForcePairs(bodies, 0.1);
+        ASSERT_GT(expected.size(), bodies.size());  // dense: more pairs than bodies
+        EXPECT_EQ(one.findPairs(bodies, 0.1), expected) << "seed " << seed;
+        EXPECT_EQ(two.findPairs(bodies, 0.1), expected) << "seed " << seed;
+    }
+}
+
 TEST(BroadPhase, StaticBodiesNeverPairWithEachOther) {
     std::vector<Body> bodies = {plane("floor", Vec3::UnitY()), box("shelf", {1, 1, 1}, 1.0).makeStatic(),
                                 sphere("pillar", 1.0, 1.0).makeStatic(), sphere("ball", 0.5, 1.0).at({0, 0.4, 0})};

@@ -106,6 +106,11 @@ public:
     /// finds nothing to do ends the stage early.
     int contactIterations() const { return contactIterations_; }
     void setContactIterations(int iterations);
+    /// Threads the broad phase may use: 1, or 2 (the default on a machine with two cores or more),
+    /// which it uses only for scenes large enough to gain; the results are the same either way.
+    /// Throws std::invalid_argument below 1.
+    int threads() const { return broadPhase_.threads(); }
+    void setThreads(int threads);
 
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }
