@@ -40,40 +40,40 @@ Aabb boundingBox(const Body& b, double margin) {
     return {b.position - half, b.position + half};
 }
 
+namespace {
+
+constexpr int kCellBits = 21;                          // per axis in a packed cell
+constexpr long kCellRange = 1L << (kCellBits - 1);     // cells -kCellRange .. kCellRange - 1 per axis
+constexpr int kLargeCells = 4;                         // more cells than this on an axis: a large body
+
+std::uint64_t packCell(long x, long y, long z) {
+    const auto bits = [](long c) { return static_cast<std::uint64_t>(c + kCellRange); };
+    return bits(x) << (2 * kCellBits) | bits(y) << kCellBits | bits(z);
+}
+
+}  // namespace
+
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin) {
     pairs_.clear();
     entries_.clear();
+    filed_.clear();
+    large_.clear();
     planes_.clear();
-    Vec3 sum = Vec3::Zero(), sumSquares = Vec3::Zero();
+    sizes_.clear();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         if (bodies[i].shape == Shape::Plane) {
             planes_.push_back(i);
             continue;
         }
-        entries_.push_back({0.0, 0.0, boundingBox(bodies[i], margin), i, bodies[i].isStatic()});
-        sum += bodies[i].position;
-        sumSquares += bodies[i].position.cwiseProduct(bodies[i].position);
+        const Aabb box = boundingBox(bodies[i], margin);
+        entries_.push_back({box, i, bodies[i].isStatic(), {}, {}});
+        sizes_.push_back((box.max - box.min).maxCoeff());
     }
 
-    // Sweep along the axis on which the centres spread most.
-    const double n = static_cast<double>(std::max<std::size_t>(entries_.size(), 1));
-    const Vec3 variance = sumSquares / n - (sum / n).cwiseProduct(sum / n);
-    int axis = 0;
-    variance.maxCoeff(&axis);
-    for (Entry& e : entries_) {
-        e.lo = e.box.min[axis];
-        e.hi = e.box.max[axis];
-    }
-    std::sort(entries_.begin(), entries_.end(), [](const Entry& p, const Entry& q) { return p.lo < q.lo; });
-    if (threads_ > 1 && entries_.size() >= kParallelFrom) {
-        const std::size_t half = entries_.size() / 2;
-        secondHalf_.clear();
-        auto second = std::async(std::launch::async, [this, half] { sweep(half, entries_.size(), secondHalf_); });
-        sweep(0, half, pairs_);
-        second.get();
-        pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
+    if (entries_.size() < kGridFrom) {
+        sweep();
     } else {
-        sweep(0, entries_.size(), pairs_);
+        grid();
     }
 
     for (std::size_t plane : planes_) {
@@ -87,14 +87,100 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
     return pairs_;
 }
 
-void BroadPhase::sweep(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
-    for (std::size_t k = first; k < last; ++k) {
+void BroadPhase::sweep() {
+    // Along the axis on which the boxes spread most, sorted by their lower ends: each box is tested
+    // only against the boxes that begin before it ends.
+    Vec3 sum = Vec3::Zero(), sumSquares = Vec3::Zero();
+    for (const Entry& e : entries_) {
+        const Vec3 centre = 0.5 * (e.box.min + e.box.max);
+        sum += centre;
+        sumSquares += centre.cwiseProduct(centre);
+    }
+    const double n = static_cast<double>(entries_.size());
+    const Vec3 variance = sumSquares / n - (sum / n).cwiseProduct(sum / n);
+    int axis = 0;
+    variance.maxCoeff(&axis);
+    std::sort(entries_.begin(), entries_.end(),
+              [axis](const Entry& p, const Entry& q) { return p.box.min[axis] < q.box.min[axis]; });
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
         const Entry& p = entries_[k];
         for (std::size_t m = k + 1; m < entries_.size(); ++m) {
             const Entry& q = entries_[m];
-            if (q.lo > p.hi) break;
+            if (q.box.min[axis] > p.box.max[axis]) break;
             if (p.isStatic && q.isStatic) continue;
-            if (overlap(p.box, q.box)) pairs.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+            if (overlap(p.box, q.box)) pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+        }
+    }
+}
+
+void BroadPhase::grid() {
+    // Cells twice as wide as the median box (a metre when there is nothing to go by).
+    double cell = 1.0;
+    if (!sizes_.empty()) {
+        std::nth_element(sizes_.begin(), sizes_.begin() + sizes_.size() / 2, sizes_.end());
+        if (sizes_[sizes_.size() / 2] > 0.0) cell = 2.0 * sizes_[sizes_.size() / 2];
+    }
+    for (std::size_t k = 0; k < entries_.size(); ++k) {
+        Entry& e = entries_[k];
+        const Vec3 lo = (e.box.min / cell).array().floor(), hi = (e.box.max / cell).array().floor();
+        const bool inRange = (lo.array() >= -kCellRange).all() && (hi.array() < kCellRange).all();
+        if (!inRange || ((hi - lo).array() >= kLargeCells).any()) {
+            large_.push_back(k);
+            continue;
+        }
+        e.cellLo = lo.cast<int>();
+        e.cellHi = hi.cast<int>();
+        for (int x = e.cellLo.x(); x <= e.cellHi.x(); ++x) {
+            for (int y = e.cellLo.y(); y <= e.cellHi.y(); ++y) {
+                for (int z = e.cellLo.z(); z <= e.cellHi.z(); ++z) {
+                    filed_.push_back({packCell(x, y, z), static_cast<std::uint32_t>(k)});
+                }
+            }
+        }
+    }
+    std::sort(filed_.begin(), filed_.end());
+
+    if (threads_ > 1) {
+        // Two halves, each starting at the beginning of a cell.
+        std::size_t half = filed_.size() / 2;
+        while (half > 0 && half < filed_.size() && filed_[half].cell == filed_[half - 1].cell) ++half;
+        secondHalf_.clear();
+        auto second = std::async(std::launch::async, [this, half] { testCells(half, filed_.size(), secondHalf_); });
+        testCells(0, half, pairs_);
+        second.get();
+        pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
+    } else {
+        testCells(0, filed_.size(), pairs_);
+    }
+
+    // Large bodies against every other body (each pair of large bodies once).
+    for (std::size_t l = 0; l < large_.size(); ++l) {
+        const Entry& p = entries_[large_[l]];
+        for (std::size_t k = 0; k < entries_.size(); ++k) {
+            const Entry& q = entries_[k];
+            const bool qLarge = std::binary_search(large_.begin(), large_.end(), k);
+            if (k == large_[l] || (qLarge && k < large_[l])) continue;
+            if (p.isStatic && q.isStatic) continue;
+            if (overlap(p.box, q.box)) pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+        }
+    }
+
+}
+
+void BroadPhase::testCells(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
+    for (std::size_t begin = first, end = first; begin < last; begin = end) {
+        while (end < last && filed_[end].cell == filed_[begin].cell) ++end;
+        const std::uint64_t cell = filed_[begin].cell;
+        for (std::size_t u = begin; u < end; ++u) {
+            const Entry& p = entries_[filed_[u].entry];
+            for (std::size_t v = u + 1; v < end; ++v) {
+                const Entry& q = entries_[filed_[v].entry];
+                if (p.isStatic && q.isStatic) continue;
+                // Reported only by the lowest cell the two cover together.
+                const Eigen::Vector3i shared = p.cellLo.cwiseMax(q.cellLo);
+                if (packCell(shared.x(), shared.y(), shared.z()) != cell) continue;
+                if (overlap(p.box, q.box)) pairs.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+            }
         }
     }
 }

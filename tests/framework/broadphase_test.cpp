@@ -46,12 +46,17 @@ TEST(BroadPhase, SamePairsAsTestingEveryPair) {
     EXPECT_GT(pairsSeen, 1000u);  // the scenes are dense enough to test something
 }
 
-TEST(BroadPhase, TwoThreadsFindTheSamePairs) {
-    // Scenes above the size where the sweep splits in two: the same pairs as one thread and as
-    // testing every pair.
+TEST(BroadPhase, TheGridOnOneThreadAndTwoFindsTheSamePairs) {
+    // Scenes large enough for the grid: the same pairs with one thread and two as testing every
+    // pair. The third holds a body far larger than the cells and one far outside the grid's range,
+    // which are tested against every other body.
     for (unsigned seed = 1; seed <= 3; ++seed) {
-        const std::vector<Body> bodies =
-            randomScene(seed, static_cast<int>(BroadPhase::kParallelFrom) + 500 * seed, 2, 30.0);
+        std::vector<Body> bodies = randomScene(seed, static_cast<int>(BroadPhase::kGridFrom) + 500 * seed, 2, 30.0);
+        if (seed == 3) {
+            bodies.push_back(box("slab", Vec3(40.0, 0.5, 40.0), 1.0).at(Vec3(15.0, 15.0, 15.0)).makeStatic());
+            bodies.push_back(sphere("far", 1.0, 1.0).at(Vec3(1e9, 0.0, 0.0)));
+            bodies.push_back(sphere("farther", 1.0, 1.0).at(Vec3(1e9, 1.5, 0.0)));
+        }
         BroadPhase one, two;
         one.setThreads(1);
         two.setThreads(2);

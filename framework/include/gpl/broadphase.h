@@ -1,20 +1,26 @@
 // The broad phase: which pairs of bodies may touch, found without testing every pair.
 //
-// Sort and sweep: every finite body (sphere, box) gets an axis-aligned bounding box; the boxes are
-// sorted along the axis on which the bodies spread most, and a sweep along it tests only boxes
-// whose intervals overlap there. Static planes are infinite: each pairs with every movable body
-// whose box reaches the plane. Two static bodies never pair. The result is exactly the pairs whose
-// bounding volumes overlap (bruteForcePairs() tests every pair the same way), in the same order.
+// Every finite body (sphere, box) gets an axis-aligned bounding box. Up to a few thousand bodies,
+// sort and sweep: the boxes are sorted along the axis on which they spread most, and each is tested
+// only against those that begin before it ends there. From kGridFrom bodies on, where the sweep's
+// slabs hold ever more boxes, a uniform grid: the boxes are filed under the grid cells they cover (cells twice as wide as the median box, so a typical
+// body covers one to eight). Only boxes filed under the same cell are tested, and a pair is
+// reported by the lowest cell the two share, so once. A body much larger than the cells (or far
+// outside the grid's range) is tested against every other body instead. Static planes are infinite:
+// each pairs with every movable body whose box reaches the plane. Two static bodies never pair. The
+// result is exactly the pairs whose bounding volumes overlap (bruteForcePairs() tests every pair the
+// same way), sorted. The work grows with the number of bodies, not with the size of the scene.
 //
 // A margin grows every box by a fraction of its body's size (the radius, or a box's smallest half
 // extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
 // new overlaps among them while they move bodies apart.
 //
-// With two threads (setThreads(), the default where the machine has two cores) a large sweep is
-// split in two halves that run at once; the pairs are sorted after, so the result is the same.
+// With two threads (setThreads(), the default where the machine has two cores) the grid's cells are
+// tested in two halves at once; the pairs are sorted after, so the result is the same.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "gpl/body.h"
@@ -43,29 +49,40 @@ public:
     /// counts), sorted by (a, b). The buffers are kept between calls, so a step allocates nothing
     /// once the scene has settled.
     const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0);
-    /// Threads the sweep may use (1 or 2; more count as 2). It uses two only from kParallelFrom
-    /// bodies on, where the second thread costs less than it saves.
+    /// Threads the grid's cell tests may use (1 or 2; more count as 2).
     void setThreads(int threads) { threads_ = threads < 2 ? 1 : 2; }
     int threads() const { return threads_; }
-    static constexpr std::size_t kParallelFrom = 2048;
+    /// From this many finite bodies on, the grid (below, sort and sweep: cheaper for a few thousand).
+    static constexpr std::size_t kGridFrom = 2048;
 
 private:
-    /// A body's box as the sweep reads it: packed and sorted, so the inner loop walks memory in order
-    /// and never touches the (large) bodies themselves.
+    /// A body's box with the cells it covers, [cellLo, cellHi] on each axis.
     struct Entry {
-        double lo, hi;  ///< the box's extent along the sweep axis
         Aabb box;
         std::size_t index;
         bool isStatic;
+        Eigen::Vector3i cellLo, cellHi;
+    };
+    /// One cell a box covers: the cell's packed coordinates and the entry.
+    struct Filed {
+        std::uint64_t cell;
+        std::uint32_t entry;
+        bool operator<(const Filed& o) const { return cell < o.cell || (cell == o.cell && entry < o.entry); }
     };
     std::vector<Entry> entries_;
+    std::vector<Filed> filed_;
+    std::vector<std::size_t> large_;  ///< entries tested against every other entry
+    std::vector<double> sizes_;       ///< each entry's largest extent (m), for the grid's cell size
     std::vector<std::size_t> planes_;
     std::vector<BodyPair> pairs_;
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
     int threads_ = defaultThreads();
 
-    /// The sweep over entries_[first, last), each against the entries after it, into pairs.
-    void sweep(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
+    /// The pairs of entries_ by sort and sweep, or by the grid, into pairs_.
+    void sweep();
+    void grid();
+    /// Tests the boxes filed under the same cell, for the cells filed_[first, last) begins, into pairs.
+    void testCells(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
     static int defaultThreads();
 };
 
