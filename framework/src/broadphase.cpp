@@ -66,7 +66,7 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
             continue;
         }
         const Aabb box = boundingBox(bodies[i], margin);
-        entries_.push_back({box, i, bodies[i].isStatic(), {}, {}});
+        entries_.push_back({box, i, bodies[i].isStatic(), Eigen::Vector3i::Zero(), Eigen::Vector3i::Zero()});
         sizes_.push_back((box.max - box.min).maxCoeff());
     }
 
