@@ -184,6 +184,13 @@ std::string App::state() const {
     j["recording"] = !recording_.empty();
     j["error"] = session_.error();
     j["missing_hooks"] = e.missingHooks();
+    // Where the moving bodies are drawn, and the part of the window the side panel leaves free
+    // (pixels, y down), and for how long the scene's view hint means to frame their motion.
+    const PixelBox moving = camera_.movingBodies(e.bodies(), sceneWidth(), height_);
+    j["view"]["free"] = {0, 0, sceneWidth(), height_};
+    j["view"]["moving"] = moving.empty() ? nlohmann::json() : nlohmann::json({moving.left, moving.top, moving.right, moving.bottom});
+    j["view"]["behind_eye"] = moving.behindEye;
+    j["view"]["seconds"] = session_.scene().viewSeconds;
     if (e.bodies().size() <= 50) {
         for (const Body& b : e.bodies()) j["positions"][b.name] = {b.position.x(), b.position.y(), b.position.z()};
     }

@@ -13,6 +13,13 @@ struct Ray {
     Vec3 direction;  ///< unit
 };
 
+/// A rectangle of the viewport in pixels (y down); empty when nothing was added.
+struct PixelBox {
+    double left = 0.0, top = 0.0, right = -1.0, bottom = -1.0;
+    bool behindEye = false;  ///< something lay behind the eye and could not be placed
+    bool empty() const { return right < left; }
+};
+
 class Camera {
 public:
     static constexpr double kFieldOfViewY = 45.0;  ///< degrees, vertical
@@ -48,6 +55,8 @@ public:
     Ray rayThrough(double x, double y, int width, int height) const;
     /// Where a world point lands in the viewport (pixels, y down); false when behind the eye.
     bool project(const Vec3& point, int width, int height, double& x, double& y) const;
+    /// The pixels the moving (not static) spheres and boxes cover, each taken as its bounding sphere.
+    PixelBox movingBodies(const std::vector<Body>& bodies, int width, int height) const;
 
 private:
     Vec3 target_;
