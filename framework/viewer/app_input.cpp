@@ -354,7 +354,9 @@ void App::runScript() {
             ok = false;
         }
         if (!ok) {
-            std::cerr << "error: bad script command '" << command << "'\n";
+            std::cerr << "error: --script: expects commands such as 'key k', 'wait 10', 'down left X Y', "
+                         "'set stage impulses off', 'dump', 'shot FILE.png' or 'quit', got '"
+                      << command << "'\n";
             quit(2);
             return;
         }

@@ -1,0 +1,96 @@
+"""Every course scene's view hint frames its whole motion in the part of the window the side panel
+leaves free: each scene runs in the real viewer under Xvfb, at the default window size with the
+panel open, stepped by the reference, and every 0.1 s of its viewSeconds the viewer reports where
+its moving bodies are drawn (their bounding spheres projected by the camera the renderer uses)."""
+import json
+import os
+import subprocess
+import unittest
+from concurrent.futures import ThreadPoolExecutor
+
+VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
+RUNNER = os.environ.get("GPL_RUN_SOLUTIONS")
+FRAMES_PER_DUMP = 6  # 0.1 s of simulated time at 60 frames per second
+
+
+def viewer(*args, timeout=300):
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", VIEWER, *map(str, args)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
+    return proc.returncode, states, proc.stdout[-2000:] + proc.stderr[-2000:]
+
+
+def course_scenes():
+    """(key, name) of the course's scenes (the student's own, F11 and F12, frame themselves)."""
+    listed = subprocess.run([RUNNER, "--list"], capture_output=True, text=True, check=True).stdout
+    rows = [line.split("\t") for line in listed.splitlines()]
+    return [(key, name) for key, name, _ in rows if key not in ("F11", "F12")]
+
+
+def track(scene):
+    """The view reports of one scene over its viewSeconds, one every 0.1 s."""
+    _, first, out = viewer(scene, "--script", "dump; quit")
+    if not first:
+        return scene, None, out
+    seconds = first[0]["view"]["seconds"]
+    dumps = int(round(seconds * 60 / FRAMES_PER_DUMP))
+    # "wait N" lets the frame it is read in and N more pass: N + 1 frames between reports.
+    script = "dump; " + f"wait {FRAMES_PER_DUMP - 1}; dump; " * dumps + "quit"
+    code, states, out = viewer(scene, "--script", script)
+    return scene, (code, states), out
+
+
+@unittest.skipUnless(VIEWER and RUNNER, "GPL_VIEWER_SOLUTIONS and GPL_RUN_SOLUTIONS name the programs")
+class ViewHints(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.scenes = course_scenes()
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            cls.tracks = {name: result for name, *result in pool.map(track, [n for _, n in cls.scenes])}
+
+    def test_there_are_course_scenes(self):
+        self.assertGreaterEqual(len(self.scenes), 17)
+        self.assertIn("chain", self.tracks)
+
+    def test_moving_bodies_stay_in_the_free_part(self):
+        for _, name in self.scenes:
+            with self.subTest(scene=name):
+                (result, out) = self.tracks[name]
+                self.assertIsNotNone(result, out)
+                code, states = result
+                self.assertEqual(code, 0, out)
+                seconds = states[0]["view"]["seconds"]
+                self.assertGreater(seconds, 0.5)
+                # The last report lies within one frame's step of viewSeconds.
+                self.assertAlmostEqual(states[-1]["time"], seconds, delta=0.1 + 1e-9)
+                _, _, width, height = states[0]["view"]["free"]
+                self.assertLess(width, 1280, "the panel is open and takes its part of the window")
+                for s in states:
+                    box = s["view"]["moving"]
+                    self.assertIsNotNone(box, f"no moving body at t = {s['time']:.2f} s")
+                    self.assertFalse(s["view"]["behind_eye"], f"a body behind the camera at t = {s['time']:.2f} s")
+                    left, top, right, bottom = box
+                    where = f"at t = {s['time']:.2f} s the moving bodies cover x {left:.0f}..{right:.0f}, " \
+                            f"y {top:.0f}..{bottom:.0f}; the free part is {width} x {height} pixels"
+                    self.assertTrue(left >= 0 and top >= 0 and right <= width and bottom <= height, where)
+
+    def test_the_motion_is_not_lost_in_the_distance(self):
+        # A hint that frames the motion from far away passes the test above trivially: over the
+        # scene's time the moving bodies must cover at least a third of the free part's width or
+        # height (a falling sphere covers more than that; the smallest motion here, Newton's
+        # cradle, fills about half when framed as it is now).
+        for _, name in self.scenes:
+            with self.subTest(scene=name):
+                (result, out) = self.tracks[name]
+                self.assertIsNotNone(result, out)
+                _, states = result
+                _, _, width, height = states[0]["view"]["free"]
+                boxes = [s["view"]["moving"] for s in states if s["view"]["moving"]]
+                span_x = max(b[2] for b in boxes) - min(b[0] for b in boxes)
+                span_y = max(b[3] for b in boxes) - min(b[1] for b in boxes)
+                self.assertGreater(max(span_x / width, span_y / height), 1 / 3,
+                                   f"the motion covers {span_x:.0f} x {span_y:.0f} of {width} x {height} pixels")
+
+
+if __name__ == "__main__":
+    unittest.main()
