@@ -49,7 +49,7 @@ class ViewHints(unittest.TestCase):
             cls.tracks = {name: result for name, *result in pool.map(track, [n for _, n in cls.scenes])}
 
     def test_there_are_course_scenes(self):
-        self.assertGreaterEqual(len(self.scenes), 17)
+        self.assertGreaterEqual(len(self.scenes), 16)
         self.assertIn("chain", self.tracks)
 
     def test_moving_bodies_stay_in_the_free_part(self):
@@ -77,8 +77,8 @@ class ViewHints(unittest.TestCase):
     def test_the_motion_is_not_lost_in_the_distance(self):
         # A hint that frames the motion from far away passes the test above trivially: over the
         # scene's time the moving bodies must cover at least a third of the free part's width or
-        # height (a falling sphere covers more than that; the smallest motion here, Newton's
-        # cradle, fills about half when framed as it is now).
+        # height. As framed now every scene covers half or more in one of them (the pendulum, the
+        # smallest, 0.51 of the width; the falling sphere 0.82 of the height).
         for _, name in self.scenes:
             with self.subTest(scene=name):
                 (result, out) = self.tracks[name]
