@@ -329,8 +329,12 @@ void inputChecks() {
 int main(int argc, char** argv) {
     CLI::App app{"The speed-versus-accuracy study: every integrator on problems with exact answers."};
     std::string outDir = "build/accuracy";
-    app.add_option("--out", outDir, "folder for the CSV and plot data files")->check(gpl::cli::writableFolder());
+    app.add_option("--out", outDir, "folder for the CSV and plot data files");
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
+    if (const std::string error = gpl::cli::makeFolder("--out", outDir); !error.empty()) {
+        std::cerr << "error: " << error << '\n';
+        return 2;
+    }
 
     const auto start = std::chrono::steady_clock::now();
     try {

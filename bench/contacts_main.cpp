@@ -374,8 +374,12 @@ void fastAndSmall(Output& out) {
 int main(int argc, char** argv) {
     CLI::App app{"The speed-versus-accuracy study of contacts: iterations, tunnelling, resting stacks, mass ratios."};
     std::string outDir = "build/contacts";
-    app.add_option("--out", outDir, "folder for the CSV and plot data files")->check(gpl::cli::writableFolder());
+    app.add_option("--out", outDir, "folder for the CSV and plot data files");
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
+    if (const std::string error = gpl::cli::makeFolder("--out", outDir); !error.empty()) {
+        std::cerr << "error: " << error << '\n';
+        return 2;
+    }
 
     const auto start = std::chrono::steady_clock::now();
     try {

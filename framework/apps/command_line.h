@@ -57,19 +57,16 @@ inline CLI::Validator positiveSeconds() {
     });
 }
 
-/// A folder that exists and is writable, or can be made inside one that is (nothing is created here).
-inline CLI::Validator writableFolder() {
-    return expects("a folder that exists or can be made, and is writable", [](const std::string& text) {
-        if (text.empty()) return false;
-        std::error_code ec;
-        std::filesystem::path p = std::filesystem::absolute(text, ec);
-        if (ec) return false;
-        while (!std::filesystem::exists(p, ec)) {
-            if (!p.has_parent_path() || p.parent_path() == p) return false;
-            p = p.parent_path();
-        }
-        return std::filesystem::is_directory(p, ec) && ::access(p.c_str(), W_OK | X_OK) == 0;
-    });
+/// Makes the folder an option names (and its parents) unless it exists. Returns "" when it is
+/// there, else the one-line error: the option, what it expects, the value and why it failed.
+inline std::string makeFolder(const std::string& option, const std::string& path) {
+    std::error_code ec;
+    if (!path.empty()) std::filesystem::create_directories(path, ec);
+    if (!path.empty() && !ec && std::filesystem::is_directory(path, ec) && ::access(path.c_str(), W_OK | X_OK) == 0) {
+        return "";
+    }
+    return option + ": expects a folder that exists or can be made, and is writable, got '" + path + "'" +
+           (ec ? " (" + ec.message() + ")" : "");
 }
 
 /// One of a few words, listed in the message.

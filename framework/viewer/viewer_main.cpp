@@ -17,10 +17,8 @@ int main(int argc, char** argv) {
     app.add_option("--scene,-s", o.scene, "scene name or key")->check(gpl::cli::sceneName());
     app.add_option("--frames", o.frames, "render this many frames (1/60 s of simulated time each), then exit")
         ->check(gpl::cli::wholeNumber(0, std::numeric_limits<int>::max()));
-    app.add_option("--out", o.out, "folder for frames (with --frames: every frame) and screenshots")
-        ->check(gpl::cli::writableFolder());
-    app.add_option("--record", o.record, "record every frame as PNG into this folder from the start")
-        ->check(gpl::cli::writableFolder());
+    app.add_option("--out", o.out, "folder for frames (with --frames: every frame) and screenshots");
+    app.add_option("--record", o.record, "record every frame as PNG into this folder from the start");
     app.add_option("--steps", o.presteps, "time steps to take before the first frame")->check(gpl::cli::wholeNumber(0));
     app.add_option("--dt", o.dt, "time step in seconds (default: the scene's)")->check(gpl::cli::positiveSeconds());
     app.add_option("--script", o.script, "input commands separated by ';' (for tests and demos)");
@@ -35,29 +33,14 @@ int main(int argc, char** argv) {
     o.panel = !noPanel;
     if (!positional.empty()) o.scene = positional;
 
-    try {
-        gpl::scenes().find(o.scene);
-    } catch (const std::exception& e) {
-        std::cerr << "error: " << e.what() << '\n';
-        return 2;
-    }
-    if (o.frames > 0 && !o.out.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(o.out, ec);
-        if (ec) {
-            std::cerr << "error: cannot create the folder '" << o.out << "': " << ec.message() << '\n';
-            return 2;
-        }
-        o.record = o.out;
-    }
-    if (!o.record.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(o.record, ec);
-        if (ec) {
-            std::cerr << "error: cannot create the folder '" << o.record << "': " << ec.message() << '\n';
+    for (const auto& [option, folder] : {std::pair{"--out", o.out}, std::pair{"--record", o.record}}) {
+        if (folder.empty()) continue;
+        if (const std::string error = gpl::cli::makeFolder(option, folder); !error.empty()) {
+            std::cerr << "error: " << error << '\n';
             return 2;
         }
     }
+    if (o.frames > 0 && !o.out.empty()) o.record = o.out;
     int glutArgc = 1;
     return gpl::viewer::runViewer(glutArgc, argv, o);
 }
