@@ -183,8 +183,12 @@ def _build_reference(tree):
                     ["cmake", "--build", build, "--", "-j", str(os.cpu_count() or 1), *targets]):
             if subprocess.run([str(c) for c in cmd], stdout=out, stderr=subprocess.STDOUT).returncode != 0:
                 raise ReleaseError(f"the reference engine did not build; the log is {log}")
+    # Each hook file of solutions/ is an object library of its own (cmake/Variants.cmake): its object
+    # file is the -o of its compile command.
     commands = json.loads((build / "compile_commands.json").read_text())
-    objects = sorted({pathlib.Path(c["directory"], c["output"]) for c in commands if "gpl_hookfile_solutions_" in c["output"]})
+    outputs = [re.search(r" -o (\S+)", c["command"]) for c in commands]
+    objects = sorted({pathlib.Path(c["directory"], o.group(1)) for c, o in zip(commands, outputs)
+                      if o and "/gpl_hookfile_solutions_" in "/" + o.group(1)})
     if len(objects) != len(hooks.hook_files()):
         raise ReleaseError(f"expected {len(hooks.hook_files())} reference hook objects in {build}, found {len(objects)}")
     (tree / "reference" / "hooks").mkdir(parents=True)
