@@ -74,6 +74,10 @@ def command_works(test, release, command):
     env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
     window = args[1] == "viewer" and not {"--headless", "--help"} & set(args)
     if window:
+        # Built first (./lab viewer --help builds the same viewer), so that the 20 s are the window's.
+        flags = [a for a in args[2:] if a in ("--reference", "--debug")]
+        built = run([*args[:2], *flags, "--help"], release, env={"DISPLAY": ""}, timeout=400)
+        test.assertEqual(built.returncode, 0, built.stdout[-2000:] + built.stderr[-2000:])
         args = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *args]
     proc = subprocess.Popen(args, cwd=release, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
