@@ -13,11 +13,9 @@ struct Ray {
     Vec3 direction;  ///< unit
 };
 
-/// A rectangle of the viewport in pixels (y down); empty when nothing was added.
+/// A rectangle of the viewport in pixels (y down).
 struct PixelBox {
-    double left = 0.0, top = 0.0, right = -1.0, bottom = -1.0;
-    bool behindEye = false;  ///< something lay behind the eye and could not be placed
-    bool empty() const { return right < left; }
+    double left = 0.0, top = 0.0, right = 0.0, bottom = 0.0;
 };
 
 class Camera {
@@ -55,8 +53,9 @@ public:
     Ray rayThrough(double x, double y, int width, int height) const;
     /// Where a world point lands in the viewport (pixels, y down); false when behind the eye.
     bool project(const Vec3& point, int width, int height, double& x, double& y) const;
-    /// The pixels the moving (not static) spheres and boxes cover, each taken as its bounding sphere.
-    PixelBox movingBodies(const std::vector<Body>& bodies, int width, int height) const;
+    /// The pixels each moving (not static) sphere or box covers, taken as its bounding sphere, in
+    /// the bodies' order; false (and fewer boxes) when one lies behind the eye.
+    bool movingBodies(const std::vector<Body>& bodies, int width, int height, std::vector<PixelBox>& boxes) const;
 
 private:
     Vec3 target_;

@@ -1,7 +1,8 @@
 """Every course scene's view hint frames its whole motion in the part of the window the side panel
-leaves free: each scene runs in the real viewer under Xvfb, at the default window size with the
-panel open, stepped by the reference, and every 0.1 s of its viewSeconds the viewer reports where
-its moving bodies are drawn (their bounding spheres projected by the camera the renderer uses)."""
+leaves free, clear of the overlay at its top left: each scene runs in the real viewer under Xvfb, at
+the default window size with the panel open and the reference ghost on, and every 0.1 s of its
+viewSeconds the viewer reports where each moving body is drawn (its bounding sphere projected by the
+camera the renderer uses) and where the overlay is."""
 import json
 import os
 import subprocess
@@ -29,14 +30,14 @@ def course_scenes():
 
 def track(scene):
     """The view reports of one scene over its viewSeconds, one every 0.1 s."""
-    _, first, out = viewer(scene, "--script", "dump; quit")
+    _, first, out = viewer(scene, "--ghost", "--script", "dump; quit")
     if not first:
         return scene, None, out
     seconds = first[0]["view"]["seconds"]
     dumps = int(round(seconds * 60 / FRAMES_PER_DUMP))
     # "wait N" lets the frame it is read in and N more pass: N + 1 frames between reports.
     script = "dump; " + f"wait {FRAMES_PER_DUMP - 1}; dump; " * dumps + "quit"
-    code, states, out = viewer(scene, "--script", script)
+    code, states, out = viewer(scene, "--ghost", "--script", script)
     return scene, (code, states), out
 
 
@@ -66,13 +67,18 @@ class ViewHints(unittest.TestCase):
                 _, _, width, height = states[0]["view"]["free"]
                 self.assertLess(width, 1280, "the panel is open and takes its part of the window")
                 for s in states:
-                    box = s["view"]["moving"]
-                    self.assertIsNotNone(box, f"no moving body at t = {s['time']:.2f} s")
                     self.assertFalse(s["view"]["behind_eye"], f"a body behind the camera at t = {s['time']:.2f} s")
-                    left, top, right, bottom = box
-                    where = f"at t = {s['time']:.2f} s the moving bodies cover x {left:.0f}..{right:.0f}, " \
-                            f"y {top:.0f}..{bottom:.0f}; the free part is {width} x {height} pixels"
-                    self.assertTrue(left >= 0 and top >= 0 and right <= width and bottom <= height, where)
+                    self.assertTrue(s["view"]["bodies"], f"no moving body at t = {s['time']:.2f} s")
+                    # A student's overlay has one line more than this one: the hooks still open.
+                    left, top, right, bottom = s["view"]["overlay"]
+                    overlay = (left, top, right, bottom + s["view"]["line_height"])
+                    for box in s["view"]["bodies"]:
+                        where = f"at t = {s['time']:.2f} s a body covers x {box[0]:.0f}..{box[2]:.0f}, " \
+                                f"y {box[1]:.0f}..{box[3]:.0f}"
+                        self.assertTrue(box[0] >= 0 and box[1] >= 0 and box[2] <= width and box[3] <= height,
+                                        f"{where}; the free part is {width} x {height} pixels")
+                        self.assertFalse(box[0] < overlay[2] and box[2] > overlay[0] and box[1] < overlay[3]
+                                         and box[3] > overlay[1], f"{where}, under the overlay {overlay}")
 
     def test_the_motion_is_not_lost_in_the_distance(self):
         # A hint that frames the motion from far away passes the test above trivially: over the
@@ -85,7 +91,7 @@ class ViewHints(unittest.TestCase):
                 self.assertIsNotNone(result, out)
                 _, states = result
                 _, _, width, height = states[0]["view"]["free"]
-                boxes = [s["view"]["moving"] for s in states if s["view"]["moving"]]
+                boxes = [box for s in states for box in s["view"]["bodies"]]
                 span_x = max(b[2] for b in boxes) - min(b[0] for b in boxes)
                 span_y = max(b[3] for b in boxes) - min(b[1] for b in boxes)
                 self.assertGreater(max(span_x / width, span_y / height), 1 / 3,
