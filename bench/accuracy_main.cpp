@@ -1,6 +1,5 @@
 // gpl-bench: the speed-versus-accuracy study (./lab bench accuracy). Prints tables, writes CSV
 // files and the data files that bench/accuracy.gp turns into plots.
-#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -11,6 +10,7 @@
 #include <map>
 #include <sstream>
 
+#include "command_line.h"
 #include "gpl/body.h"
 #include "gpl/engine.h"
 #include "report.h"
@@ -330,7 +330,11 @@ int main(int argc, char** argv) {
     CLI::App app{"The speed-versus-accuracy study: every integrator on problems with exact answers."};
     std::string outDir = "build/accuracy";
     app.add_option("--out", outDir, "folder for the CSV and plot data files");
-    CLI11_PARSE(app, argc, argv);
+    if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
+    if (const std::string error = gpl::cli::makeFolder("--out", outDir); !error.empty()) {
+        std::cerr << "error: " << error << '\n';
+        return 2;
+    }
 
     const auto start = std::chrono::steady_clock::now();
     try {

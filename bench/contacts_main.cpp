@@ -1,6 +1,5 @@
 // gpl-bench-contacts: the speed-versus-accuracy study of contacts (./lab bench contacts). Prints
 // tables, writes CSV files and the data files that bench/contacts.gp turns into plots.
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,6 +11,7 @@
 #include <map>
 #include <sstream>
 
+#include "command_line.h"
 #include "contacts.h"
 #include "report.h"
 
@@ -375,7 +375,11 @@ int main(int argc, char** argv) {
     CLI::App app{"The speed-versus-accuracy study of contacts: iterations, tunnelling, resting stacks, mass ratios."};
     std::string outDir = "build/contacts";
     app.add_option("--out", outDir, "folder for the CSV and plot data files");
-    CLI11_PARSE(app, argc, argv);
+    if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
+    if (const std::string error = gpl::cli::makeFolder("--out", outDir); !error.empty()) {
+        std::cerr << "error: " << error << '\n';
+        return 2;
+    }
 
     const auto start = std::chrono::steady_clock::now();
     try {

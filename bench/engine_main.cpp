@@ -9,6 +9,7 @@
 #include <sstream>
 #include <vector>
 
+#include "command_line.h"
 #include "gpl/body.h"
 #include "gpl/engine.h"
 #include "heap.h"
@@ -79,16 +80,16 @@ int main(int argc, char** argv) {
     std::string out = "build/engine";
     bool skipBullet = false;
     int threads = gpl::PhysicsEngine().threads();
-    app.add_option("--sizes", sizes, "numbers of spheres, e.g. --sizes 1000 8000")->check(CLI::Range(1, 1000000));
+    app.add_option("--sizes", sizes, "numbers of spheres, e.g. --sizes 1000 8000")
+        ->check(gpl::cli::wholeNumber(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");
     app.add_option("--threads", threads, "threads of this engine's broad phase (1 or 2; default: 2 on two cores)")
-        ->check(CLI::Range(1, 2));
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        const int code = app.exit(e);
-        return code == 0 ? 0 : 2;
+        ->check(gpl::cli::wholeNumber(1, 2));
+    if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
+    if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
+        std::cerr << error << '\n';
+        return 2;
     }
     const bool bullet = gpl::bench::hasBullet() && !skipBullet;
     if (!gpl::bench::hasBullet() && !skipBullet) {

@@ -37,10 +37,17 @@ function(gpl_add_variant name dir)
     list(APPEND objects $<TARGET_OBJECTS:gpl_hookfile_${name}_${id}>)
   endforeach()
   set(GPL_VARIANT_DIR_${name} ${dir} CACHE INTERNAL "hook directory of variant ${name}")
+  gpl_add_compiled_variant(${name} ${objects})
+endfunction()
+
+# gpl_add_compiled_variant(NAME OBJECT...): the library gpl_hooks_NAME and the runner gpl-run-NAME
+# from hook objects compiled already: those of gpl_add_variant, or the reference engine of a student
+# release written with ./lab release --reference-demo (object files without their source).
+function(gpl_add_compiled_variant name)
   add_library(gpl_hooks_${name} INTERFACE)
-  target_sources(gpl_hooks_${name} INTERFACE ${objects})
+  target_sources(gpl_hooks_${name} INTERFACE ${ARGN})
   target_link_libraries(gpl_hooks_${name} INTERFACE gpl::framework)
 
   add_executable(gpl-run-${name} $<TARGET_OBJECTS:gpl_run_main>)
-  target_link_libraries(gpl-run-${name} PRIVATE gpl_hooks_${name} gpl::framework CLI11::CLI11)
+  target_link_libraries(gpl-run-${name} PRIVATE gpl_hooks_${name} gpl::framework)
 endfunction()

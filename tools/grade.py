@@ -41,6 +41,7 @@ import time
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 import hooks  # noqa: E402
+from hooks import OneLineParser  # noqa: E402
 import similarity  # noqa: E402
 from grading import GradeError  # noqa: E402
 from grading.building import (Submission, build_submissions, cmake_build, configure_submission_build,  # noqa: E402
@@ -261,14 +262,6 @@ def cmd_selfcheck(args):
             print(f"WRONG: '{spec['mistake']}' loses {spec['must_fail']} only through a prerequisite; "
                   "run on its own the test passes, so it cannot catch the mistake")
     return 0 if ok else 1
-
-
-class OneLineParser(argparse.ArgumentParser):
-    """Usage errors as one line ("error: ..."), exit status 2."""
-
-    def error(self, message):
-        print(f"error: {message} ({self.prog.split()[0]} -h for help)", file=sys.stderr)
-        sys.exit(2)
 
 
 def main(argv):

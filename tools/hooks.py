@@ -17,6 +17,7 @@ Commands:
                                            hook directory OUTDIR/NAME and print NAME per line
   hooks.py files                           print the hook file names (cmake/hook_files.txt)
 """
+import argparse
 import json
 import pathlib
 import re
@@ -159,30 +160,46 @@ def _solution_only(text):
     return "".join(out)
 
 
+def existing_file(text):
+    """argparse type: the path of a file that exists."""
+    if not pathlib.Path(text).is_file():
+        raise argparse.ArgumentTypeError(f"expects a file that exists, got '{text}'")
+    return pathlib.Path(text)
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """Command-line errors as one line naming the option and what it expects, exit status 2."""
+
+    def error(self, message):
+        print(f"error: {message} ({self.prog.split()[0]} -h for help)", file=sys.stderr)
+        sys.exit(2)
+
+
 def main(argv):
-    if not argv or argv[0] in ("-h", "--help"):
-        print(__doc__)
-        return 0 if argv else 2
-    cmd, rest = argv[0], argv[1:]
+    parser = OneLineParser(prog="hooks.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", metavar="stub|check|write|mutants|files", required=True,
+                                parser_class=OneLineParser)
+    sub.add_parser("stub").add_argument("file", type=existing_file)
+    sub.add_parser("check")
+    sub.add_parser("write").add_argument("--backup", metavar="DIR", type=pathlib.Path)
+    sub.add_parser("mutants").add_argument("outdir")
+    sub.add_parser("files")
+    args = parser.parse_args(argv)
     try:
-        if cmd == "stub" and len(rest) == 1:
-            sys.stdout.write(stub(pathlib.Path(rest[0]).read_text(), rest[0]))
+        if args.command == "stub":
+            sys.stdout.write(stub(args.file.read_text(), str(args.file)))
             return 0
-        if cmd == "check" and not rest:
+        if args.command == "check":
             return check()
-        if cmd == "write":
-            backup = pathlib.Path(rest[1]) if len(rest) == 2 and rest[0] == "--backup" else None
-            return write(backup)
-        if cmd == "mutants" and len(rest) == 1:
-            return write_mutants(rest[0])
-        if cmd == "files" and not rest:
-            print("\n".join(hook_files()))
-            return 0
+        if args.command == "write":
+            return write(args.backup)
+        if args.command == "mutants":
+            return write_mutants(args.outdir)
+        print("\n".join(hook_files()))
+        return 0
     except (HookError, OSError, json.JSONDecodeError, KeyError) as e:
         print(f"hooks.py: {e}", file=sys.stderr)
         return 1
-    print(__doc__, file=sys.stderr)
-    return 2
 
 
 if __name__ == "__main__":

@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """Student releases and the Gradescope autograder, written from the instructor's tree.
 
-  release.py release DIR
+  release.py release DIR [--reference-demo]
       the student release: framework, assignments (the stubs, generated from solutions/), public
-      tests, worksheets without worksheets/instructor/, README, lab, cmake/ and the grader. No
-      solutions, no hidden tests, no seeded mistakes, no instructor notes; it builds on its own.
+      tests, worksheets without worksheets/instructor/, lab, cmake/, the grader, and a README for
+      students (docs/student-README.md). No solutions, no hidden tests, no seeded mistakes, no
+      instructor notes; it builds on its own. --reference-demo adds the reference engine compiled
+      here (reference/: object files and a library, no source), so that the release's viewer shows
+      the reference ghost and ./lab run --reference the reference's numbers.
   release.py gradescope DIR [--hidden-visibility hidden|after_published]
       the Gradescope autograder: setup.sh, run_autograder and the sources they need (hidden tests
       included, no solutions: grading does not need them), and DIR.zip to upload.
@@ -16,11 +19,13 @@ DIR must not exist yet, or be an empty folder. Everything is written to a folder
 and renamed into place when complete, so a failed run leaves nothing behind.
 """
 import argparse
+import json
 import os
 import pathlib
 import re
 import shutil
 import stat
+import subprocess
 import sys
 import tempfile
 import zipfile
@@ -28,20 +33,26 @@ import zipfile
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
 import hooks  # noqa: E402
-from grade import OneLineParser  # noqa: E402
+from hooks import OneLineParser  # noqa: E402
 
 HIDDEN_SUFFIX = "_hidden_test.cpp"   # tests/autograder/*_hidden_test.cpp hold the hidden tests
 HIDDEN_OPTION = "grading::hidden()"
 
 # What a student release holds: these files and folders of the instructor's tree (folders whole,
 # minus what EXCLUDED names). Anything new must be added here to reach students.
-RELEASED = ["README.md", "lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".gitignore",
+RELEASED = ["lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".gitignore",
             "cmake", "framework", "bench", "worksheets", "tests/CMakeLists.txt", "tests/framework", "tests/autograder",
             "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
 # The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
 GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
               "tests/framework", "tests/autograder", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
 EXCLUDED = {"worksheets/instructor", "__pycache__"}
+# The release's README.md: written for students, from this file (the instructors' README stays here).
+STUDENT_README = "docs/student-README.md"
+# Parts of it between these lines are kept only in a release written with --reference-demo; parts
+# between the NO_ variants only in one without.
+DEMO_BEGIN, DEMO_END = "<!-- reference-demo -->", "<!-- /reference-demo -->"
+NO_DEMO_BEGIN, NO_DEMO_END = "<!-- no-reference-demo -->", "<!-- /no-reference-demo -->"
 
 
 class ReleaseError(Exception):
@@ -143,6 +154,49 @@ def _write_assignments(target):
         (target / "assignments" / name).write_text(text)
 
 
+def student_readme(demo):
+    """The release's README.md: docs/student-README.md with the parts for this release."""
+    out, keep = [], True
+    for line in (ROOT / STUDENT_README).read_text().splitlines(True):
+        tag = line.strip()
+        if tag in (DEMO_BEGIN, NO_DEMO_BEGIN):
+            keep = demo == (tag == DEMO_BEGIN)
+        elif tag in (DEMO_END, NO_DEMO_END):
+            keep = True
+        elif keep:
+            out.append(line)
+    return "".join(out)
+
+
+def _build_reference(tree):
+    """--reference-demo: compiles the reference engine in build/reference-demo (kept, so the next
+    release compiles only what changed) and puts into tree/reference/ the hook objects of solutions/
+    (the variant "reference") and libgpl_reference.a (the viewer's ghost): binaries, no source."""
+    build = ROOT / "build" / "reference-demo"
+    build.mkdir(parents=True, exist_ok=True)
+    log = build / "last-build.log"
+    targets = ["gpl_reference"] + ["gpl_hookfile_solutions_" + re.sub(r"\W", "_", f) for f in hooks.hook_files()]
+    print("building the reference engine for the demo (a minute or two the first time)", flush=True)
+    with open(log, "w") as out:
+        for cmd in (["cmake", "-S", ROOT, "-B", build, "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
+                     "-DGPL_BUILD_TESTS=OFF", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON"],
+                    ["cmake", "--build", build, "--", "-j", str(os.cpu_count() or 1), *targets]):
+            if subprocess.run([str(c) for c in cmd], stdout=out, stderr=subprocess.STDOUT).returncode != 0:
+                raise ReleaseError(f"the reference engine did not build; the log is {log}")
+    # Each hook file of solutions/ is an object library of its own (cmake/Variants.cmake): its object
+    # file is the -o of its compile command.
+    commands = json.loads((build / "compile_commands.json").read_text())
+    outputs = [re.search(r" -o (\S+)", c["command"]) for c in commands]
+    objects = sorted({pathlib.Path(c["directory"], o.group(1)) for c, o in zip(commands, outputs)
+                      if o and "/gpl_hookfile_solutions_" in "/" + o.group(1)})
+    if len(objects) != len(hooks.hook_files()):
+        raise ReleaseError(f"expected {len(hooks.hook_files())} reference hook objects in {build}, found {len(objects)}")
+    (tree / "reference" / "hooks").mkdir(parents=True)
+    for obj in objects:
+        shutil.copy2(obj, tree / "reference" / "hooks" / obj.name)
+    shutil.copy2(build / "framework" / "viewer" / "libgpl_reference.a", tree / "reference" / "libgpl_reference.a")
+
+
 def _packages():
     """The Debian packages of lab's PACKAGES list (one list for lab and the autograder)."""
     text = (ROOT / "lab").read_text()
@@ -219,16 +273,20 @@ def _in_place(target, fill):
         raise
 
 
-def release(target):
+def release(target, demo=False):
     def fill(tree):
         _copy(RELEASED, tree, skip_hidden=True)
         _write_assignments(tree)
+        (tree / "README.md").write_text(student_readme(demo))
+        if demo:
+            _build_reference(tree)
         found = leaks(tree)
         if found:
             where, what, origin = found[0]
             raise ReleaseError(f"the release would leak {origin} into {where}: {what!r}")
     _in_place(target, fill)
-    print(f"wrote the student release to {target}: no solutions, no hidden tests, no seeded mistakes")
+    print(f"wrote the student release to {target}: no solutions, no hidden tests, no seeded mistakes" +
+          ("; the reference engine compiled, for the ghost and ./lab run --reference" if demo else ""))
     return 0
 
 
@@ -264,21 +322,32 @@ def gradescope(target, visibility):
     return 0
 
 
+def existing_folder(text):
+    """argparse type: a folder that exists."""
+    if not pathlib.Path(text).is_dir():
+        raise argparse.ArgumentTypeError(f"expects a folder that exists, got '{text}'")
+    return text
+
+
 def main(argv):
     parser = OneLineParser(prog="release.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
-    sub.add_parser("release").add_argument("dir")
+    sub = parser.add_subparsers(dest="command", metavar="release|gradescope|leaks", required=True,
+                                parser_class=OneLineParser)
+    r = sub.add_parser("release")
+    r.add_argument("dir")
+    r.add_argument("--reference-demo", action="store_true",
+                   help="add the reference engine compiled (no source): the viewer's ghost and ./lab run --reference")
     g = sub.add_parser("gradescope")
     g.add_argument("dir")
     g.add_argument("--hidden-visibility", choices=("hidden", "after_published"), default="after_published",
                    help="when students see the hidden tests' results: never, or once grades are published")
-    sub.add_parser("leaks").add_argument("dir")
+    sub.add_parser("leaks").add_argument("dir", type=existing_folder)
     args = parser.parse_args(argv)
     try:
         if not (ROOT / "solutions").is_dir():
             raise ReleaseError("this is a student release: releases are written from the instructor's tree")
         if args.command == "release":
-            return release(args.dir)
+            return release(args.dir, args.reference_demo)
         if args.command == "gradescope":
             return gradescope(args.dir, args.hidden_visibility)
         found = leaks(args.dir)

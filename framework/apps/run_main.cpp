@@ -1,10 +1,10 @@
 // gpl-run: steps a scene without a display and prints a summary; see ./lab run --help.
-#include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 
+#include "command_line.h"
 #include "gpl/runner.h"
 #include "gpl/scenes.h"
 
@@ -25,15 +25,16 @@ int main(int argc, char** argv) {
     std::string csvPath;
     std::string integrator;
     bool list = false;
-    app.add_option("--scene,-s", sceneName, "scene name or key (1-9, 0, F1-F12)");
-    app.add_option("--steps,-n", steps, "number of time steps");
-    app.add_option("--dt", dt, "time step in seconds (default: the scene's)");
+    app.add_option("--scene,-s", sceneName, "scene name or key (1-9, 0, F1-F12)")->check(gpl::cli::sceneName());
+    app.add_option("--steps,-n", steps, "number of time steps")->check(gpl::cli::wholeNumber(0));
+    app.add_option("--dt", dt, "time step in seconds (default: the scene's)")->check(gpl::cli::positiveSeconds());
     app.add_option("--csv", csvPath, "write one row per body and step to this file");
-    app.add_option(
-        "--integrator", integrator,
-        "explicit-euler, semi-implicit-euler, position-verlet, velocity-verlet or rk4 (default: the scene's)");
+    std::vector<std::string> integrators;
+    for (const gpl::Integrator i : gpl::kIntegrators) integrators.push_back(gpl::integratorId(i));
+    app.add_option("--integrator", integrator, "the integrator (default: the scene's)")
+        ->check(gpl::cli::oneOf(integrators));
     app.add_flag("--list", list, "list the scenes and exit");
-    CLI11_PARSE(app, argc, argv);
+    if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
 
     if (list) {
         for (const auto& s : gpl::scenes().all()) {
@@ -41,7 +42,6 @@ int main(int argc, char** argv) {
         }
         return 0;
     }
-    if (steps < 0) return fail("--steps must be 0 or more, got " + std::to_string(steps));
 
     gpl::PhysicsEngine engine;
     const gpl::Scene* scene = nullptr;
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     const std::string partial = csvPath + ".partial";
     if (!csvPath.empty()) {
         csv.open(partial);
-        if (!csv) return fail("cannot write the CSV file '" + csvPath + "'");
+        if (!csv) return fail("--csv: cannot write the CSV file '" + csvPath + "'");
         gpl::writeCsvHeader(csv);
     }
 

@@ -68,16 +68,21 @@ void thousandBodies(PhysicsEngine& e) {
 }  // namespace
 
 void addWorksheet1Scenes(SceneRegistry& r) {
+    // Nothing stops a fall before worksheet 3: each view frames the motion until the first body
+    // reaches the ground, sqrt(2 (y0 - r) / g) for a body dropped from rest.
     r.add({"falling-sphere", "1", "One sphere dropped from 10 m: free fall under gravity.", 1, kFreeFall,
-           kDefaultTimeStep, fallingSphere});
+           kDefaultTimeStep, fallingSphere, Integrator::SemiImplicitEuler, Vec3(0.0, 7.2, 0.0), 18.0, 1.4});
     r.add({"masses", "2", "Spheres and boxes from 0.1 kg to 1000 kg dropped side by side: all fall alike.", 1,
-           kFreeFall, kDefaultTimeStep, massesSideBySide});
+           kFreeFall, kDefaultTimeStep, massesSideBySide, Integrator::SemiImplicitEuler, Vec3(0.0, 7.3, 0.0), 18.5,
+           1.4});
     r.add({"projectile", "3", "A ball thrown at 45 degrees with 15 m/s: a parabola.", 1, kFreeFall, kDefaultTimeStep,
-           projectile, Integrator::SemiImplicitEuler, Vec3(1.5, 3.0, 0.0), 30.0});
+           projectile, Integrator::SemiImplicitEuler, Vec3(1.5, 3.0, 0.0), 30.0, 2.25});
     r.add({"static-and-movable", "4", "A floor, a shelf and a pillar that stay put, and three bodies that fall.", 1,
-           kFreeFall, kDefaultTimeStep, staticAndMovable});
+           kFreeFall, kDefaultTimeStep, staticAndMovable, Integrator::SemiImplicitEuler, Vec3(0.0, 6.8, 0.0), 18.0,
+           1.25});
     r.add({"thousand-bodies", "0", "1000 spheres and boxes in free fall (no collisions yet): a load for the viewer.", 1,
-           kFreeFall, kDefaultTimeStep, thousandBodies});
+           kFreeFall, kDefaultTimeStep, thousandBodies, Integrator::SemiImplicitEuler, Vec3(0.0, 15.0, 0.0), 52.0,
+           0.95});
 }
 
 }  // namespace gpl

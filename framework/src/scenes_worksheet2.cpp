@@ -84,9 +84,9 @@ void addWorksheet2Scenes(SceneRegistry& r) {
     r.add({"chain", "6", "A chain of twelve links released horizontally from a pivot.", 2, kConstrained,
            kDefaultTimeStep, chain, Integrator::PositionVerlet, Vec3(0.0, 3.5, 0.0), 11.0});
     r.add({"spring-oscillator", "7", "Springs: undamped, damped, and two bodies in series.", 2, kSprings,
-           kDefaultTimeStep, springOscillator, Integrator::VelocityVerlet});
+           kDefaultTimeStep, springOscillator, Integrator::VelocityVerlet, Vec3(0.0, 5.8, 0.0), 10.0});
     r.add({"container", "8", "300 balls dropped into a round container; contacts resolved by moving positions.", 2,
-           kContainer, kDefaultTimeStep, container, Integrator::PositionVerlet});
+           kContainer, kDefaultTimeStep, container, Integrator::PositionVerlet, Vec3(0.0, 6.8, 0.0), 17.0});
 }
 
 }  // namespace gpl

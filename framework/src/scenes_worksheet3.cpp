@@ -58,7 +58,7 @@ void addWorksheet3Scenes(SceneRegistry& r) {
     r.add({"balls-in-a-box", "9", "45 balls dropped into a box of five planes; overlaps resolved by moving positions.",
            3, kPositional, kDefaultTimeStep, ballsInABox, Integrator::SemiImplicitEuler, Vec3(0.0, 3.0, 0.0), 13.0});
     r.add({"valley", "F1", "Balls slide down two tilted planes into the valley between them.", 3, kPositional,
-           kDefaultTimeStep, valley, Integrator::SemiImplicitEuler, Vec3(0.0, 3.2, 0.0), 12.5});
+           kDefaultTimeStep, valley, Integrator::SemiImplicitEuler, Vec3(0.0, 4.5, 0.0), 10.5});
 }
 
 }  // namespace gpl

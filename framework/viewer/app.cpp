@@ -184,6 +184,17 @@ std::string App::state() const {
     j["recording"] = !recording_.empty();
     j["error"] = session_.error();
     j["missing_hooks"] = e.missingHooks();
+    // Where each moving body is drawn, the part of the window the side panel leaves free and the
+    // overlay's box in it (pixels, y down), and for how long the scene's view hint means to frame
+    // the bodies' motion.
+    std::vector<PixelBox> boxes;
+    j["view"]["behind_eye"] = !camera_.movingBodies(e.bodies(), sceneWidth(), height_, boxes);
+    j["view"]["bodies"] = nlohmann::json::array();
+    for (const PixelBox& b : boxes) j["view"]["bodies"].push_back({b.left, b.top, b.right, b.bottom});
+    j["view"]["free"] = {0, 0, sceneWidth(), height_};
+    j["view"]["overlay"] = {overlay_.left, overlay_.top, overlay_.right, overlay_.bottom};
+    j["view"]["line_height"] = ImGui::GetTextLineHeightWithSpacing();
+    j["view"]["seconds"] = session_.scene().viewSeconds;
     if (e.bodies().size() <= 50) {
         for (const Body& b : e.bodies()) j["positions"][b.name] = {b.position.x(), b.position.y(), b.position.z()};
     }

@@ -90,6 +90,7 @@ private:
     int recorded_ = 0;
     int screenshots_ = 0;
     std::deque<std::string> script_;
+    PixelBox overlay_;         // where the overlay was drawn last (pixels, y down)
     std::string pendingShot_;  // written after the next frame is drawn, panel and overlays included
     int scriptWait_ = 0;
     int exitCode_ = 0;

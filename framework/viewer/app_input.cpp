@@ -26,7 +26,7 @@ const std::vector<std::pair<std::string, std::string>>& bindings() {
         {"x", "shoot a sphere from the camera"},
         {"i", "insert a box at the camera's target"},
         {"Delete, Backspace", "remove the selected body"},
-        {"o", "reference ghost on / off (builds with solutions)"},
+        {"o", "reference ghost on / off (builds with the reference engine)"},
         {"k", "contacts of the last step on / off: points and normals"},
         {"left drag on a body", "pull it with a spring to the cursor (and select it)"},
         {"left click", "select a body (click on nothing: clear)"},
@@ -98,7 +98,8 @@ void App::onKey(unsigned char c) {
             break;
         case 'o':
             if (!session_.ghostAvailable()) {
-                message("no reference ghost in this build (it needs solutions/)");
+                message("no reference ghost in this build (it needs the reference engine: solutions/, or a release "
+                        "written with --reference-demo)");
             } else if (session_.ghostWanted()) {
                 session_.setGhost(false);
                 message("reference ghost off");
@@ -353,7 +354,9 @@ void App::runScript() {
             ok = false;
         }
         if (!ok) {
-            std::cerr << "error: bad script command '" << command << "'\n";
+            std::cerr << "error: --script: expects commands such as 'key k', 'wait 10', 'down left X Y', "
+                         "'set stage impulses off', 'dump', 'shot FILE.png' or 'quit', got '"
+                      << command << "'\n";
             quit(2);
             return;
         }

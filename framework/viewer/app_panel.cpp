@@ -54,6 +54,8 @@ void App::drawOverlay() {
         ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
     if (!message_.empty() && SteadyClock::now() < messageUntil_) ImGui::Text("%s", message_.c_str());
     ImGui::TextDisabled("h: help   Tab: panel");
+    const ImVec2 at = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    overlay_ = {at.x, at.y, at.x + size.x, at.y + size.y};
     ImGui::End();
 }
 

@@ -92,4 +92,22 @@ bool Camera::project(const Vec3& p, int width, int height, double& x, double& y)
     return true;
 }
 
+bool Camera::movingBodies(const std::vector<Body>& bodies, int width, int height, std::vector<PixelBox>& boxes) const {
+    const double pixelsPerRadian = 0.5 * std::max(1, height) / std::tan(kFieldOfViewY * kPi / 360.0);
+    bool allInFront = true;
+    for (const Body& b : bodies) {
+        if (b.isStatic() || b.shape == Shape::Plane) continue;
+        double x, y;
+        if (!project(b.position, width, height, x, y)) {
+            allInFront = false;
+            continue;
+        }
+        // A sphere's outline spans about its radius over its depth (exact at the view's centre).
+        const double r = (b.shape == Shape::Sphere ? b.radius : b.halfExtents.norm()) * pixelsPerRadian /
+                         (b.position - eye()).dot(forward());
+        boxes.push_back({x - r, y - r, x + r, y + r});
+    }
+    return allInFront;
+}
+
 }  // namespace gpl::viewer

@@ -13,6 +13,11 @@ struct Ray {
     Vec3 direction;  ///< unit
 };
 
+/// A rectangle of the viewport in pixels (y down).
+struct PixelBox {
+    double left = 0.0, top = 0.0, right = 0.0, bottom = 0.0;
+};
+
 class Camera {
 public:
     static constexpr double kFieldOfViewY = 45.0;  ///< degrees, vertical
@@ -48,6 +53,9 @@ public:
     Ray rayThrough(double x, double y, int width, int height) const;
     /// Where a world point lands in the viewport (pixels, y down); false when behind the eye.
     bool project(const Vec3& point, int width, int height, double& x, double& y) const;
+    /// The pixels each moving (not static) sphere or box covers, taken as its bounding sphere, in
+    /// the bodies' order; false (and fewer boxes) when one lies behind the eye.
+    bool movingBodies(const std::vector<Body>& bodies, int width, int height, std::vector<PixelBox>& boxes) const;
 
 private:
     Vec3 target_;

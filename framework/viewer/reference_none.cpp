@@ -1,4 +1,4 @@
-// A build without solutions/ (a student release) has no reference ghost.
+// A build without solutions/ (a student release not written with --reference-demo) has no reference ghost.
 #include "reference.h"
 
 namespace gplref {

@@ -1,9 +1,9 @@
 // gpl-viewer: the scene viewer; see ./lab viewer --help and the README.
-#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
 
 #include "app.h"
+#include "command_line.h"
 #include "gpl/scenes.h"
 
 int main(int argc, char** argv) {
@@ -13,49 +13,34 @@ int main(int argc, char** argv) {
     CLI::App app{"Game Physics Lab scene viewer.", "gpl-viewer"};
     app.footer(bindingsText);
     std::string positional;
-    app.add_option("scene", positional, "scene name or key (default: falling-sphere)");
-    app.add_option("--scene,-s", o.scene, "scene name or key");
+    app.add_option("scene", positional, "scene name or key (default: falling-sphere)")->check(gpl::cli::sceneName());
+    app.add_option("--scene,-s", o.scene, "scene name or key")->check(gpl::cli::sceneName());
     app.add_option("--frames", o.frames, "render this many frames (1/60 s of simulated time each), then exit")
-        ->check(CLI::NonNegativeNumber);
+        ->check(gpl::cli::wholeNumber(0, std::numeric_limits<int>::max()));
     app.add_option("--out", o.out, "folder for frames (with --frames: every frame) and screenshots");
     app.add_option("--record", o.record, "record every frame as PNG into this folder from the start");
-    app.add_option("--steps", o.presteps, "time steps to take before the first frame")->check(CLI::NonNegativeNumber);
-    app.add_option("--dt", o.dt, "time step in seconds (default: the scene's)")->check(CLI::PositiveNumber);
+    app.add_option("--steps", o.presteps, "time steps to take before the first frame")->check(gpl::cli::wholeNumber(0));
+    app.add_option("--dt", o.dt, "time step in seconds (default: the scene's)")->check(gpl::cli::positiveSeconds());
     app.add_option("--script", o.script, "input commands separated by ';' (for tests and demos)");
-    app.add_option("--width", o.width, "window width (pixels)")->check(CLI::Range(64, 8192));
-    app.add_option("--height", o.height, "window height (pixels)")->check(CLI::Range(64, 8192));
+    app.add_option("--width", o.width, "window width (pixels)")->check(gpl::cli::wholeNumber(64, 8192));
+    app.add_option("--height", o.height, "window height (pixels)")->check(gpl::cli::wholeNumber(64, 8192));
     app.add_flag("--paused", o.paused, "start paused");
     bool noPanel = false;
     app.add_flag("--no-panel", noPanel, "start without the side panel");
-    app.add_flag("--ghost", o.ghost, "start with the reference ghost (builds with solutions)");
+    app.add_flag("--ghost", o.ghost, "start with the reference ghost (builds with the reference engine)");
     app.add_flag("--benchmark", o.benchmark, "print the mean frame time at the end");
-    CLI11_PARSE(app, argc, argv);
+    if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     o.panel = !noPanel;
     if (!positional.empty()) o.scene = positional;
 
-    try {
-        gpl::scenes().find(o.scene);
-    } catch (const std::exception& e) {
-        std::cerr << "error: " << e.what() << '\n';
-        return 2;
-    }
-    if (o.frames > 0 && !o.out.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(o.out, ec);
-        if (ec) {
-            std::cerr << "error: cannot create the folder '" << o.out << "': " << ec.message() << '\n';
-            return 2;
-        }
-        o.record = o.out;
-    }
-    if (!o.record.empty()) {
-        std::error_code ec;
-        std::filesystem::create_directories(o.record, ec);
-        if (ec) {
-            std::cerr << "error: cannot create the folder '" << o.record << "': " << ec.message() << '\n';
+    for (const auto& [option, folder] : {std::pair{"--out", o.out}, std::pair{"--record", o.record}}) {
+        if (folder.empty()) continue;
+        if (const std::string error = gpl::cli::makeFolder(option, folder); !error.empty()) {
+            std::cerr << "error: " << error << '\n';
             return 2;
         }
     }
+    if (o.frames > 0 && !o.out.empty()) o.record = o.out;
     int glutArgc = 1;
     return gpl::viewer::runViewer(glutArgc, argv, o);
 }

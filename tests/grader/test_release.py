@@ -5,7 +5,10 @@ fake /autograder tree (GPL_AUTOGRADER_ROOT) into results.json files that Gradesc
 import json
 import os
 import pathlib
+import re
+import shlex
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -15,6 +18,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 from grading import running  # noqa: E402
 import hooks  # noqa: E402
+import release as release_tool  # noqa: E402
 
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 
@@ -47,6 +51,62 @@ def hidden_tests():
     hidden = [t for t in running.manifest(binary) if t["hidden"]]
     assert hidden, "there is at least one hidden test"
     return hidden
+
+
+def readme_commands(text):
+    """Every ./lab command the README shows: the lines of its sh blocks and its inline code."""
+    commands, in_sh = [], False
+    for line in text.splitlines():
+        if line.strip().startswith("```"):
+            in_sh = line.strip() == "```sh"
+        elif in_sh and line.strip():
+            commands.append(line.strip())
+    commands += re.findall(r"`(\./lab [^`]*)`", text)
+    return list(dict.fromkeys(commands))
+
+
+def command_works(test, release, command):
+    """Runs one command of the README in the release as a student would, without a display; a
+    viewer window is opened under Xvfb and must still be open after 20 s. Grading exits 1 while the
+    stubs lose points: that is the command working."""
+    args = shlex.split(command)
+    test.assertEqual(args[0], "./lab", command)
+    env = {k: v for k, v in os.environ.items() if k != "DISPLAY"}
+    window = args[1] == "viewer" and not {"--headless", "--help"} & set(args)
+    if window:
+        # Built first (./lab viewer --help builds the same viewer), so that the 20 s are the window's.
+        flags = [a for a in args[2:] if a in ("--reference", "--debug")]
+        built = run([*args[:2], *flags, "--help"], release, env={"DISPLAY": ""}, timeout=400)
+        test.assertEqual(built.returncode, 0, built.stdout[-2000:] + built.stderr[-2000:])
+        args = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *args]
+    proc = subprocess.Popen(args, cwd=release, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    try:
+        out, err = proc.communicate(timeout=20 if window else 400)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGTERM)
+        out, err = proc.communicate()
+        test.assertTrue(window, f"{command} did not finish")
+        test.assertNotIn("error", err, command)
+        return
+    test.assertIn(proc.returncode, (0, 1) if args[1] == "grade" else (0,), f"{command}:\n{out[-2000:]}{err[-2000:]}")
+    if args[1] == "grade":
+        test.assertIn("total:", out, command)
+
+
+def ghost(test, release, *script):
+    """The state the release's viewer dumps on the projectile with --ghost, after the script."""
+    proc = run([release / "lab", "viewer", "--headless", "projectile", "--ghost", "--script",
+                "; ".join([*script, "dump", "quit"])], release)
+    test.assertEqual(proc.returncode, 0, proc.stdout[-2000:] + proc.stderr[-2000:])
+    states = [json.loads(l[len("state "):]) for l in proc.stdout.splitlines() if l.startswith("state ")]
+    test.assertEqual(len(states), 1, proc.stdout[-2000:])
+    return states[0], proc.stdout
+
+
+# Words of the instructors' README that a student's has no use for.
+INSTRUCTORS_ONLY = ["--batch", "--solutions", "./lab release", "./lab gradescope", "seeded", "mutant", "selfcheck",
+                    "solutions/", "--similarity", "instructor/"]
 
 
 def all_text(folder):
@@ -106,7 +166,7 @@ class StudentRelease(unittest.TestCase):
         self.assertEqual(proc.returncode, 0, proc.stdout)
 
     def test_builds_on_its_own_passes_its_tests_and_the_stubs_score_zero(self):
-        tested = run([self.release / "lab", "test"], self.release, timeout=500)
+        tested = run([self.release / "lab", "test"], self.release, timeout=800)
         self.assertEqual(tested.returncode, 0, tested.stdout[-3000:] + tested.stderr[-3000:])
         self.assertIn("100% tests passed", tested.stdout)
         results = self.release / "results.json"
@@ -126,6 +186,32 @@ class StudentRelease(unittest.TestCase):
             self.assertEqual(proc.returncode, 2, proc.stdout + proc.stderr)
             self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
 
+    def test_readme_is_for_students(self):
+        text = (self.release / "README.md").read_text()
+        self.assertEqual(text, release_tool.student_readme(demo=False))
+        for words in INSTRUCTORS_ONLY:
+            self.assertNotIn(words, text)
+        for worksheet in sorted((ROOT / "worksheets").glob("0*.md")):
+            self.assertIn(f"worksheets/{worksheet.name}", text)
+        self.assertNotIn("--reference", text, "this release has no reference engine")
+        self.assertNotIn("<!--", text)
+
+    def test_readme_commands_work(self):
+        commands = readme_commands((self.release / "README.md").read_text())
+        self.assertGreaterEqual(len(commands), 10, commands)
+        for command in commands:
+            with self.subTest(command=command):
+                command_works(self, self.release, command)
+
+    def test_no_ghost_and_no_reference(self):
+        state, out = ghost(self, self.release, "key o", "wait 30")
+        self.assertFalse(state["ghost"])
+        self.assertIn("no reference ghost in this build", out)
+        proc = run([self.release / "lab", "run", "--reference"], self.release)
+        self.assertEqual(proc.returncode, 2, proc.stdout + proc.stderr)
+        self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+        self.assertIn("--reference-demo", proc.stderr)
+
     def test_refuses_an_existing_folder_or_one_inside_the_lab(self):
         occupied = self.tmp / "occupied"
         occupied.mkdir()
@@ -137,6 +223,78 @@ class StudentRelease(unittest.TestCase):
             self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
         self.assertEqual([p.name for p in occupied.iterdir()], ["mine.txt"])
         self.assertFalse((ROOT / "build" / "rel").exists())
+
+
+class ReferenceDemo(unittest.TestCase):
+    """./lab release DIR --reference-demo: the reference engine compiled, without its source. The
+    release's viewer draws the ghost (the reference's motion) and ./lab run --reference prints the
+    reference's numbers."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-demo-"))
+        cls.release = cls.tmp / "lab-release"
+        cls.made = run([ROOT / "lab", "release", cls.release, "--reference-demo"], ROOT, timeout=500)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp)
+
+    def test_written_with_binaries_only(self):
+        self.assertEqual(self.made.returncode, 0, self.made.stdout + self.made.stderr)
+        files = sorted(p.relative_to(self.release / "reference") for p in (self.release / "reference").rglob("*")
+                       if p.is_file())
+        self.assertEqual([str(f) for f in files],
+                         sorted([f"hooks/{name}.o" for name in hooks.hook_files()] + ["libgpl_reference.a"]))
+        for path in ("solutions", "tests/mutants", "tests/grader", "tools/release.py"):
+            self.assertFalse((self.release / path).exists(), path)
+        proc = run([sys.executable, ROOT / "tools" / "release.py", "leaks", self.release], ROOT)
+        self.assertEqual(proc.returncode, 0, proc.stdout)
+        for path, text in all_text(self.release).items():
+            for line in solution_code():
+                self.assertNotIn(line, text, f"{path.relative_to(self.release)} holds solution code")
+
+    def test_readme_shows_the_demo(self):
+        text = (self.release / "README.md").read_text()
+        self.assertIn("./lab run --reference", text)
+        for words in INSTRUCTORS_ONLY:
+            self.assertNotIn(words, text)
+        plain = readme_commands(release_tool.student_readme(demo=False))
+        demo_only = [c for c in readme_commands(text) if c not in plain]
+        self.assertGreaterEqual(len(demo_only), 2, demo_only)
+        for command in demo_only:
+            with self.subTest(command=command):
+                command_works(self, self.release, command)
+
+    def test_run_reference_prints_the_references_numbers(self):
+        proc = run([self.release / "lab", "run", "--reference", "--scene", "projectile", "--steps", "200"], self.release)
+        self.assertEqual(proc.returncode, 0, proc.stdout[-2000:] + proc.stderr[-2000:])
+        self.assertNotIn("not implemented", proc.stdout)
+        # Semi-implicit Euler in free fall changes the energy by exactly -m g^2 h^2 / 2 per step:
+        # 0.5 kg, h = 0.01 s: -0.0024059025 J. The summary prints 6 significant digits (-0.0024059
+        # here): equal to within half of the last (5e-8 J); rounding over 200 steps is far smaller.
+        drift = float(re.search(r"([-+][0-9.e-]+) J per step", proc.stdout).group(1))
+        self.assertAlmostEqual(drift, -0.5 * 9.81 ** 2 * 0.01 ** 2 / 2, delta=5e-8)
+        stub = run([self.release / "lab", "run", "--scene", "projectile", "--steps", "200"], self.release)
+        self.assertIn("hooks not implemented yet", stub.stdout)
+
+    def test_viewer_shows_the_ghost(self):
+        state, _ = ghost(self, self.release, "wait 29")
+        self.assertTrue(state["ghost"])
+        # The stubs leave the ball where it was thrown from; the ghost flies with 15 m/s at 45
+        # degrees, so the largest difference is the reference's displacement after t: the closed
+        # form of the throw (semi-implicit Euler is off by n h^2 g / 2 = 1.5 cm at 0.3 s: 2 %).
+        t = state["time"]
+        self.assertGreater(t, 0.25)
+        v = 15 / 2 ** 0.5
+        expected = ((v * t) ** 2 + (v * t - 9.81 * t * t / 2) ** 2) ** 0.5
+        self.assertAlmostEqual(state["ghost_difference"], expected, delta=0.02 * expected)
+
+    def test_the_study_with_the_reference(self):
+        proc = run([self.release / "lab", "bench", "contacts", "--reference", "--out", self.tmp / "contacts"],
+                   self.release, timeout=500)
+        self.assertEqual(proc.returncode, 0, proc.stdout[-3000:] + proc.stderr[-3000:])
+        self.assertIn("every hook it needs is written", proc.stdout)
 
 
 class GradescopeAutograder(unittest.TestCase):

@@ -261,13 +261,15 @@ class Window(unittest.TestCase):
     def test_bad_input_is_an_error_not_a_crash(self):
         rc, _, log = viewer(SOLUTIONS, "no-such-scene", "--frames", 1)
         self.assertEqual(rc, 2)
-        self.assertIn("unknown scene 'no-such-scene'", log)
+        self.assertIn("scene: expects a scene name or key such as falling-sphere or 1", log)
+        self.assertIn("got 'no-such-scene'", log)
         rc, _, log = viewer(SOLUTIONS, "--script", "key 1; frobnicate; quit")
         self.assertEqual(rc, 2)
-        self.assertIn("bad script command 'frobnicate'", log)
+        self.assertIn("--script: expects commands such as", log)
+        self.assertIn("got 'frobnicate'", log)
         rc, _, log = viewer(SOLUTIONS, "--frames", 1, "--out", "/proc/no-such-folder")
         self.assertEqual(rc, 2)
-        self.assertIn("cannot create the folder", log)
+        self.assertIn("--out: expects a folder that exists or can be made, and is writable", log)
 
     def test_real_x_events_reach_the_handlers(self):
         # xdotool sends real key, button, motion and wheel events through the X server to the window.

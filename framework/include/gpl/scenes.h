@@ -20,9 +20,12 @@ struct Scene {
     double timeStep = kDefaultTimeStep;         ///< s
     std::function<void(PhysicsEngine&)> build;  ///< adds the bodies (and springs, constraints, container)
     Integrator integrator = Integrator::SemiImplicitEuler;  ///< the scene's integrator; changeable at run time
-    // Where the viewer looks first; a distance of 0 frames the bodies as they start.
+    // Where the viewer looks first; a distance of 0 frames the bodies as they start. A course
+    // scene's hint keeps its moving bodies in the part of the window the side panel leaves free
+    // for its first viewSeconds (free falls without a floor: until they have passed the ground).
     Vec3 viewTarget = Vec3::Zero();  ///< m
     double viewDistance = 0.0;       ///< m
+    double viewSeconds = 10.0;       ///< s
 };
 
 class SceneRegistry {
