@@ -253,7 +253,8 @@ def _verdict(test, rc, out, why, timeout, report_path, trace_path, binary):
     trace = trace_path.read_text(errors="replace") if trace_path.exists() else ""
     hook = hook_in_trace(trace, out)
     where = f" in {hook}" if hook else ""
-    tail = "\n".join(out.strip().splitlines()[-8:])
+    # The test's own last lines (a failed assert's message, say), without GoogleTest's banner.
+    tail = "\n".join([l for l in out.strip().splitlines() if not GTEST_LINE.match(l)][-8:])
     if why == "timeout":
         return False, f"timed out after {timeout:g} s{where} (an endless loop?)"
     if why == "output":
