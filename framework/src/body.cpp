@@ -121,9 +121,10 @@ void validate(const Body& b) {
 
 double kineticEnergy(const Body& b) {
     if (b.isStatic()) return 0.0;
-    const Mat3 r = b.orientation.toRotationMatrix();
-    const Mat3 worldInertia = r * b.inertia * r.transpose();
-    return 0.5 * b.mass * b.velocity.squaredNorm() + 0.5 * b.angularVelocity.dot(worldInertia * b.angularVelocity);
+    // The rotational part in the body frame, w_b . I w_b with w_b = R^T w: the same as w . (R I R^T) w
+    // without building the world inertia (the energy assertions call this every step).
+    const Vec3 w = b.orientation.conjugate() * b.angularVelocity;
+    return 0.5 * b.mass * b.velocity.squaredNorm() + 0.5 * w.dot(b.inertia * w);
 }
 
 double potentialEnergy(const Body& b, const Vec3& gravity) {
