@@ -48,4 +48,7 @@ function(gpl_add_variant name dir)
 
   add_executable(gpl-run-${name} $<TARGET_OBJECTS:gpl_run_main>)
   target_link_libraries(gpl-run-${name} PRIVATE gpl_hooks_${name} gpl::framework CLI11::CLI11)
+  if(GPL_CORE_TESTS_ONLY)
+    set_target_properties(gpl-run-${name} PROPERTIES EXCLUDE_FROM_ALL ON)
+  endif()
 endfunction()
