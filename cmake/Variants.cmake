@@ -9,6 +9,10 @@ set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_L
 # file is an object library of its own; with REUSE, a file whose text equals that of one of the
 # variants OTHER is not compiled again but taken from it (a seeded mistake changes one file: it
 # compiles one file; a submission compiles only the files its student changed).
+#
+# Hook files are always compiled with assertions on (-UNDEBUG undoes the -DNDEBUG of a Release
+# build): a student's assert() fires, and the grader names it, in every preset, in the batch, on
+# Gradescope and in the student release alike, so a submission scores the same whatever built it.
 function(gpl_add_variant name dir)
   cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "REUSE;COMPILE_OPTIONS")
   set(objects)
@@ -31,6 +35,7 @@ function(gpl_add_variant name dir)
     endif()
     add_library(gpl_hookfile_${name}_${id} OBJECT ${dir}/${file})
     target_link_libraries(gpl_hookfile_${name}_${id} PRIVATE gpl::framework)
+    target_compile_options(gpl_hookfile_${name}_${id} PRIVATE -UNDEBUG)
     if(arg_COMPILE_OPTIONS)
       target_compile_options(gpl_hookfile_${name}_${id} PRIVATE ${arg_COMPILE_OPTIONS})
     endif()
@@ -50,4 +55,7 @@ function(gpl_add_compiled_variant name)
 
   add_executable(gpl-run-${name} $<TARGET_OBJECTS:gpl_run_main>)
   target_link_libraries(gpl-run-${name} PRIVATE gpl_hooks_${name} gpl::framework)
+  if(GPL_CORE_TESTS_ONLY)
+    set_target_properties(gpl-run-${name} PROPERTIES EXCLUDE_FROM_ALL ON)
+  endif()
 endfunction()

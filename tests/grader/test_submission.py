@@ -53,7 +53,10 @@ class Submission(unittest.TestCase):
         proc = lab_grade("--submission", sub, "--json", results)
         self.assertEqual(proc.returncode, 1, proc.stdout + proc.stderr)
         self.assertIn("ignored (only hook files are graded): README.txt", proc.stdout)
-        self.assertIn("this is explicit Euler", proc.stdout)
+        # Hook files are graded with assertions on: the reference's energy assertion, which this
+        # submission keeps, fires, and the grader names it and its hook.
+        self.assertIn("crashed with SIGABRT (abort: a failed assert or an uncaught exception) in integrator()", proc.stdout)
+        self.assertIn("integrator.cpp:30: void gpl::PhysicsEngine::integrator(): Assertion `stageActive", proc.stdout)
         data = json.loads(results.read_text())
         failed = {t["name"] for t in data["tests"] if t["status"] == "failed"}
         self.assertIn("Worksheet1.OneStepIsSemiImplicitEuler", failed)

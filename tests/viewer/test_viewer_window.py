@@ -13,12 +13,15 @@ from PIL import Image, ImageChops
 SOLUTIONS = os.environ.get("GPL_VIEWER_SOLUTIONS")
 ASSIGNMENTS = os.environ.get("GPL_VIEWER_ASSIGNMENTS")
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+# Libraries to preload into the viewer, set by CTest in a sanitizer build (tests/CMakeLists.txt says why).
+PRELOAD = os.environ.get("GPL_VIEWER_PRELOAD")
+START = ["env", f"LD_PRELOAD={PRELOAD}"] if PRELOAD else []
 SKY = (204, 217, 230)  # the background colour (0.80, 0.85, 0.90)
 
 
 def viewer(binary, *args, timeout=120):
     """Runs the viewer on a fresh Xvfb display; returns (exit status, state dumps, output)."""
-    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", binary, *map(str, args)]
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *START, binary, *map(str, args)]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
     return proc.returncode, states, proc.stdout + proc.stderr
@@ -275,7 +278,7 @@ class Window(unittest.TestCase):
         # xdotool sends real key, button, motion and wheel events through the X server to the window.
         script = self.tmp / "events.sh"
         script.write_text(f"""#!/bin/sh
-"{SOLUTIONS}" static-and-movable --script "dump; wait 900; dump; quit" &
+{" ".join(f'"{a}"' for a in START)} "{SOLUTIONS}" static-and-movable --script "dump; wait 900; dump; quit" &
 viewer=$!
 window=$(xdotool search --sync --name "Game Physics Lab" | head -1)
 xdotool mousemove --window "$window" 560 650

@@ -170,21 +170,22 @@ def _demangle(symbols):
 
 
 def hook_in_trace(trace, output=""):
-    """The innermost student hook in a call stack written by the autograder (graded.cpp), or in a
-    failed assert's message; None when neither names one."""
+    """The student hook whose assert failed, or else the innermost student hook in a call stack
+    written by the autograder (graded.cpp); None when neither names one."""
     known = hook_names()
-    symbols = [m.group(1) for m in re.finditer(r"\(([^()+\s]+)\+0x[0-9a-f]+\)", trace)]
-    for name in _demangle(symbols):
-        function = name.split("(")[0].split("::")[-1]
-        if function in known:
-            return known[function]
     # glibc's assert: "file:line: void gpl::PhysicsEngine::integrator(): Assertion `...' failed."
+    # It names its function exactly, where an optimised call stack may have inlined it away.
     for line in reversed(output.splitlines()):
         m = re.search(r": ([^:]*(?:::[^:(]+)*)\([^)]*\): Assertion", line)
         if m:
             function = m.group(1).split("::")[-1].split()[-1]
             if function in known:
                 return known[function]
+    symbols = [m.group(1) for m in re.finditer(r"\(([^()+\s]+)\+0x[0-9a-f]+\)", trace)]
+    for name in _demangle(symbols):
+        function = name.split("(")[0].split("::")[-1]
+        if function in known:
+            return known[function]
     return None
 
 
@@ -251,7 +252,8 @@ def _verdict(test, rc, out, why, limits, report_path, trace_path, binary):
     trace = trace_path.read_text(errors="replace") if trace_path.exists() else ""
     hook = hook_in_trace(trace, out)
     where = f" in {hook}" if hook else ""
-    tail = "\n".join(out.strip().splitlines()[-8:])
+    # The test's own last lines (a failed assert's message, say), without GoogleTest's banner.
+    tail = "\n".join([l for l in out.strip().splitlines() if not GTEST_LINE.match(l)][-8:])
     if why == "timeout":
         return False, f"timed out after {limits.seconds:g} s{where} (an endless loop?)"
     if why == "output":
