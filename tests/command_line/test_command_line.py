@@ -53,9 +53,11 @@ BENCH_CASES = [
 # ./lab and the tools; none of these builds anything (each stops at its arguments).
 LAB_CASES = [
     (["nowhere"], "nowhere", "./lab help"),
-    (["bench", "speed"], "bench", "expects a study, accuracy or contacts, got 'speed'"),
+    (["bench", "speed"], "bench", "expects a study, accuracy, contacts, engine or stages, got 'speed'"),
     (["bench", "accuracy", "--out"], "--out", "expects a folder"),
     (["bench", "contacts", "--bogus"], "--bogus", "--out DIR"),
+    (["bench", "engine", "--bogus"], "--bogus", "--sizes N..."),
+    (["bench", "engine", "--threads"], "--threads", "needs 1 or 2"),
     (["assignments", "--bogus"], "--bogus", "--check or --write"),
     (["assignments", "--check", "--write"], "assignments", "expects one option"),
     (["release"], "dir", "required"),
@@ -63,7 +65,8 @@ LAB_CASES = [
     (["gradescope", "/tmp/gpl-x", "--hidden-visibility", "sometimes"], "--hidden-visibility", "choose from"),
     (["grade", "--worksheet", "one"], "--worksheet", "invalid int value: 'one'"),
     (["grade", "--timeout", "soon"], "--timeout", "invalid float value: 'soon'"),
-    (["test", "--preset", "fastest"], "fastest", "release"),
+    (["grade", "--memory", "lots"], "--memory", "invalid float value: 'lots'"),
+    (["test", "--preset", "fastest"], "--preset", "expects release, debug, asan or asan-core, got 'fastest'"),
 ]
 TOOL_CASES = [
     (["tools/release.py"], "release|gradescope|leaks", "required"),
