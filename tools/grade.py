@@ -237,6 +237,10 @@ def run_one(binary, test, timeout, guard=None, alone=False):
     return passed, output, seconds
 
 
+SANITIZER_LINE = re.compile(r"^.*(?:: runtime error: |==[0-9]+==ERROR: [A-Za-z]+Sanitizer).*$", re.M)
+SANITIZER_MARK = "sanitizer: "
+
+
 def _run_one(binary, test, timeout):
     with tempfile.TemporaryDirectory(prefix="gpl-grade-") as tmp:
         report_path = pathlib.Path(tmp) / "report.json"
@@ -247,6 +251,12 @@ def _run_one(binary, test, timeout):
         rc, out, why = run_limited(cmd, timeout, cwd=tmp, env=env, warn_signal=signal.SIGUSR1)
         seconds = time.monotonic() - start
         passed, output = _verdict(test, rc, out, why, timeout, report_path, trace_path, binary)
+        # In a sanitizer build (asan, asan-core), a finding comes first in the message: the
+        # self-checks of the solutions and the stubs fail on it even where the test fails anyway.
+        found = SANITIZER_LINE.search(out)
+        if found:
+            passed = False
+            output = f"{SANITIZER_MARK}{found.group(0).strip()}\n{output}".strip()
         return passed, output, seconds
 
 
@@ -899,7 +909,11 @@ def cmd_selfcheck(args):
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
+    flagged = [r["name"] for r in results if r["output"].startswith(SANITIZER_MARK)]
     print(table(results, f"self-check of {pathlib.Path(args.binary).name}"))
+    if flagged and args.expect in ("full", "zero"):
+        print(f"WRONG: a sanitizer reported an error in {', '.join(flagged)}")
+        return 1
     if args.expect == "full":
         ok = total == maximum and not failed
         print("OK: full marks" if ok else f"WRONG: the reference solutions lose points in {', '.join(failed)}")
