@@ -51,7 +51,8 @@ from grading.guard import Guard  # noqa: E402
 from grading.reports import (Progress, check_writable, gradebook, gradescope, report, table,  # noqa: E402
                              write_atomically)
 from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of  # noqa: E402
-from grading.running import DEFAULT_TIMEOUT, failed_results, grade_binary, manifest, run_one  # noqa: E402
+from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, failed_results, grade_binary,  # noqa: E402
+                             manifest, run_one)
 
 # ---- Commands -------------------------------------------------------------------------------------
 
@@ -234,7 +235,11 @@ def cmd_selfcheck(args):
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
+    flagged = [r["name"] for r in results if r["output"].startswith(SANITIZER_MARK)]
     print(table(results, f"self-check of {pathlib.Path(args.binary).name}"))
+    if flagged and args.expect in ("full", "zero"):
+        print(f"WRONG: a sanitizer reported an error in {', '.join(flagged)}")
+        return 1
     if args.expect == "full":
         ok = total == maximum and not failed
         print("OK: full marks" if ok else f"WRONG: the reference solutions lose points in {', '.join(failed)}")

@@ -231,6 +231,10 @@ def _watch(limits):
     return watch
 
 
+SANITIZER_LINE = re.compile(r"^.*(?:: runtime error: |==[0-9]+==ERROR: [A-Za-z]+Sanitizer).*$", re.M)
+SANITIZER_MARK = "sanitizer: "
+
+
 def _run_one(binary, test, limits):
     with tempfile.TemporaryDirectory(prefix="gpl-grade-") as tmp:
         report_path = pathlib.Path(tmp) / "report.json"
@@ -245,6 +249,12 @@ def _run_one(binary, test, limits):
         if sandbox.Sandbox.here().isolated and rc > 128:
             rc = 128 - rc  # bubblewrap exits with 128 + the signal that ended the test
         passed, output = _verdict(test, rc, out, why, limits, report_path, trace_path, binary)
+        # In a sanitizer build (asan, asan-core), a finding comes first in the message: the
+        # self-checks of the solutions and the stubs fail on it even where the test fails anyway.
+        found = SANITIZER_LINE.search(out)
+        if found:
+            passed = False
+            output = f"{SANITIZER_MARK}{found.group(0).strip()}\n{output}".strip()
         return passed, output, seconds
 
 
