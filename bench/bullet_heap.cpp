@@ -3,7 +3,6 @@
 // solver with the same iteration count, no sleeping, one fixed step of 1/60 s per call.
 #include <btBulletDynamicsCommon.h>
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -49,19 +48,15 @@ HeapRun runBullet(std::size_t n, double seconds) {
     HeapRun run;
     run.engine = "Bullet";
     run.bodies = n;
-    const auto steps = static_cast<std::size_t>(std::ceil(seconds / kTimeStep));
-    std::vector<double> stepMs;
-    stepMs.reserve(steps);
-    double contacts = 0.0;
-    for (std::size_t s = 0; s < steps; ++s) {
-        const auto start = std::chrono::steady_clock::now();
-        world.stepSimulation(kTimeStep, 1, kTimeStep);
-        stepMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-        const int manifolds = dispatcher.getNumManifolds();
-        for (int m = 0; m < manifolds; ++m) contacts += dispatcher.getManifoldByIndexInternal(m)->getNumContacts();
-    }
-    summarise(std::move(stepMs), run);
-    run.contactsPerStep = steps ? contacts / static_cast<double>(steps) : 0.0;
+    timeSteps(
+        seconds, [&world] { world.stepSimulation(kTimeStep, 1, kTimeStep); },
+        [&dispatcher] {
+            double contacts = 0.0;
+            for (int m = 0; m < dispatcher.getNumManifolds(); ++m)
+                contacts += dispatcher.getManifoldByIndexInternal(m)->getNumContacts();
+            return contacts;
+        },
+        run);
     std::vector<Vec3> x, v;
     for (const auto& body : spheres) {
         const btVector3& p = body->getCenterOfMassPosition();

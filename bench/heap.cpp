@@ -31,7 +31,19 @@ std::vector<Vec3> heapPositions(std::size_t n) {
     return at;
 }
 
-void summarise(std::vector<double> stepMs, HeapRun& run) {
+void timeSteps(double seconds, const std::function<void()>& step, const std::function<double()>& contacts,
+               HeapRun& run) {
+    const auto steps = static_cast<std::size_t>(std::ceil(seconds / kTimeStep));
+    std::vector<double> stepMs;
+    stepMs.reserve(steps);
+    double total = 0.0;
+    for (std::size_t s = 0; s < steps; ++s) {
+        const auto start = std::chrono::steady_clock::now();
+        step();
+        stepMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+        total += contacts();
+    }
+    run.contactsPerStep = steps ? total / static_cast<double>(steps) : 0.0;
     run.steps = stepMs.size();
     if (stepMs.empty()) return;
     std::sort(stepMs.begin(), stepMs.end());
@@ -98,18 +110,7 @@ HeapRun runOurs(std::size_t n, double seconds, int threads) {
     HeapRun run;
     run.engine = "ours";
     run.bodies = n;
-    const auto steps = static_cast<std::size_t>(std::ceil(seconds / kTimeStep));
-    std::vector<double> stepMs;
-    stepMs.reserve(steps);
-    double contacts = 0.0;
-    for (std::size_t s = 0; s < steps; ++s) {
-        const auto start = std::chrono::steady_clock::now();
-        e.step();
-        stepMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-        contacts += static_cast<double>(e.contacts().size());
-    }
-    summarise(std::move(stepMs), run);
-    run.contactsPerStep = steps ? contacts / static_cast<double>(steps) : 0.0;
+    timeSteps(seconds, [&e] { e.step(); }, [&e] { return static_cast<double>(e.contacts().size()); }, run);
     std::vector<Vec3> x, v;
     for (const Body& b : e.bodies()) {
         if (b.shape != Shape::Sphere) continue;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,8 +36,10 @@ struct HeapRun {
     double kinetic = 0.0;        ///< J: kinetic energy at the end (settled: near 0)
 };
 
-/// Median and 90th percentile of per-step times (ms), into run.
-void summarise(std::vector<double> stepMs, HeapRun& run);
+/// Steps an engine through `seconds` of simulated time, timing each step (median and 90th
+/// percentile into run) and counting its contacts after it (mean into run.contactsPerStep).
+void timeSteps(double seconds, const std::function<void()>& step, const std::function<double()>& contacts,
+               HeapRun& run);
 
 /// The quality figures of a state (positions and velocities of the spheres), into run.
 void measureQuality(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, HeapRun& run);
