@@ -13,8 +13,24 @@ set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_L
 # Hook files are always compiled with assertions on (-UNDEBUG undoes the -DNDEBUG of a Release
 # build): a student's assert() fires, and the grader names it, in every preset, in the batch, on
 # Gradescope and in the student release alike, so a submission scores the same whatever built it.
+#
+# The engine's headers (Eigen's among them) are parsed once for every hook file of every variant: a
+# precompiled header, made by gpl_hook_pch with the hook files' own flags. It takes a hook file
+# from 1.5 s to 0.5 s of compiling (the seeded mistakes, the submissions, a student's edit).
+function(gpl_hook_pch_target)
+  if(TARGET gpl_hook_pch)
+    return()
+  endif()
+  file(WRITE ${CMAKE_BINARY_DIR}/gpl_hook_pch.cpp "// the precompiled header of the hook files\n")
+  add_library(gpl_hook_pch OBJECT ${CMAKE_BINARY_DIR}/gpl_hook_pch.cpp)
+  target_link_libraries(gpl_hook_pch PRIVATE gpl::framework)
+  target_compile_options(gpl_hook_pch PRIVATE -UNDEBUG)
+  target_precompile_headers(gpl_hook_pch PRIVATE <gpl/engine.h> <gpl/hooks.h>)
+endfunction()
+
 function(gpl_add_variant name dir)
   cmake_parse_arguments(PARSE_ARGV 2 arg "" "" "REUSE;COMPILE_OPTIONS")
+  gpl_hook_pch_target()
   set(objects)
   foreach(file IN LISTS GPL_HOOK_FILES)
     string(MAKE_C_IDENTIFIER ${file} id)
@@ -36,6 +52,7 @@ function(gpl_add_variant name dir)
     add_library(gpl_hookfile_${name}_${id} OBJECT ${dir}/${file})
     target_link_libraries(gpl_hookfile_${name}_${id} PRIVATE gpl::framework)
     target_compile_options(gpl_hookfile_${name}_${id} PRIVATE -UNDEBUG)
+    target_precompile_headers(gpl_hookfile_${name}_${id} REUSE_FROM gpl_hook_pch)
     if(arg_COMPILE_OPTIONS)
       target_compile_options(gpl_hookfile_${name}_${id} PRIVATE ${arg_COMPILE_OPTIONS})
     endif()

@@ -135,7 +135,10 @@ def build_submissions(subs, sub_build, jobs):
                              f"cmake --build {sub_build}")
     for s in subs:
         if s.variant in errors:
+            # The compiler names the file as ccache passed it: relative to the build folder when
+            # the build is inside the lab (ccache's base_dir), else with its whole path.
             log = errors[s.variant].replace(str(sub_build / "submissions" / s.variant), str(s.folder))
+            log = log.replace(f"submissions/{s.variant}/", f"{s.folder}/")
             s.build_errors = first_errors(log) or log.strip()[-2000:]
 
 
