@@ -224,6 +224,8 @@ private:
     void recordOpenKernels();
     /// The rope's contact from ropeContact(), with the framework's fields set; none while slack.
     std::optional<Contact> ropeContactOf(const Rope& rope) const;
+    /// e plus the energy of every spring, added one by one (J).
+    double plusSpringEnergies(double e) const;
 };
 
 }  // namespace gpl
