@@ -5,7 +5,8 @@
 //          timeStep()   h (s)
 // Outputs: v and x of every movable body advanced from t to t + h; static bodies untouched
 //
-// Helpers you may use: isFinite(vector), totalEnergy() (J), assert() from <cassert>.
+// Helpers you may use: isFinite(vector), totalEnergy() (J), and per body kineticEnergy(body) and
+// potentialEnergy(body, gravity) (J), assert() from <cassert>.
 #include <cassert>
 #include <cmath>
 

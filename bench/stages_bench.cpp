@@ -8,11 +8,16 @@
 //   BM_DetectCollisions/N, BM_Interpenetration/N, BM_Impulses/N
 //                              one stage on the heap (the state is put back, untimed, before each)
 //   BM_Integration/N           integrate() on the free fall
-//   BM_StepFreeFall/N and BM_GravityAndIntegrationOnly/N
-//                              a whole step of a scene that requires gravity and integration, and
-//                              those two stages called directly: equal times show that the
-//                              stages a scene does not require cost nothing
+//   BM_StepFreeFall/N, BM_StepFreeFallIdleStages/N and BM_GravityAndIntegrationOnly/N
+//                              a whole step of a scene that requires gravity and integration; the
+//                              same scene holding springs, distance constraints, ropes and a
+//                              container whose stages it does not require (equal times: the
+//                              stages a scene does not require cost nothing, their data included);
+//                              and the two stages called directly (the rest of the first is the
+//                              step's own check that every body is still finite)
 #include <benchmark/benchmark.h>
+
+#include <string>
 
 #include "gpl/body.h"
 #include "gpl/broadphase.h"
@@ -155,6 +160,23 @@ void BM_StepFreeFall(benchmark::State& state) {
     state.SetComplexityN(state.range(0));
 }
 BENCHMARK(BM_StepFreeFall)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+void BM_StepFreeFallIdleStages(benchmark::State& state) {
+    PhysicsEngine e;
+    const auto n = static_cast<std::size_t>(state.range(0));
+    freeFall(e, n);
+    // Data for the engine's other stages, none of which the scene requires.
+    for (std::size_t i = 0; i + 1 < n; i += 2) {
+        const std::string a = "s" + std::to_string(i), b = "s" + std::to_string(i + 1);
+        e.addSpring(a, b, 100.0, 1.0);
+        e.addDistanceConstraint(a, b);
+        e.addRope(a, b, 2.0);
+    }
+    e.setContainer(Vec3(0.0, 1e6, 0.0), 1e9);
+    for (auto _ : state) e.step();
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_StepFreeFallIdleStages)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
 
 void BM_GravityAndIntegrationOnly(benchmark::State& state) {
     PhysicsEngine e;

@@ -119,20 +119,12 @@ void validate(const Body& b) {
         fail("friction must be a finite number >= 0, got " + formatNumber(b.friction));
 }
 
-double kineticEnergy(const Body& b) {
+double rotationalEnergy(const Body& b) {
     if (b.isStatic()) return 0.0;
-    const double translation = 0.5 * b.mass * b.velocity.squaredNorm();
-    // Not turning (every particle and sphere until worksheet 5): the rotational term is exactly 0.
-    if (b.angularVelocity.isZero(0.0)) return translation;
-    // The rotational part in the body frame, w_b . I w_b with w_b = R^T w: the same as w . (R I R^T) w
-    // without building the world inertia (the energy assertions call this every step).
+    // In the body frame, w_b . I w_b with w_b = R^T w: the same as w . (R I R^T) w without building
+    // the world inertia.
     const Vec3 w = b.orientation.conjugate() * b.angularVelocity;
-    return translation + 0.5 * w.dot(b.inertia * w);
-}
-
-double potentialEnergy(const Body& b, const Vec3& gravity) {
-    if (b.isStatic()) return 0.0;
-    return -b.mass * gravity.dot(b.position);
+    return 0.5 * w.dot(b.inertia * w);
 }
 
 Vec3 linearMomentum(const Body& b) {

@@ -83,8 +83,22 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
             pairs_.push_back({std::min(e.index, plane), std::max(e.index, plane)});
         }
     }
-    std::sort(pairs_.begin(), pairs_.end());
+    sortPairs(bodies.size());
     return pairs_;
+}
+
+void BroadPhase::sortPairs(std::size_t bodies) {
+    // Counted by the first body, placed in its range, then each body's few pairs by the second:
+    // linear in bodies and pairs, where a comparison sort is not.
+    firsts_.assign(bodies + 1, 0);
+    for (const BodyPair& p : pairs_) ++firsts_[p.a + 1];
+    for (std::size_t i = 0; i < bodies; ++i) firsts_[i + 1] += firsts_[i];
+    placed_.resize(pairs_.size());
+    for (const BodyPair& p : pairs_) placed_[firsts_[p.a]++] = p;  // firsts_[i] ends as the end of i's range
+    for (std::size_t i = 0, begin = 0; i < bodies; begin = firsts_[i++]) {
+        std::sort(placed_.begin() + static_cast<std::ptrdiff_t>(begin), placed_.begin() + static_cast<std::ptrdiff_t>(firsts_[i]));
+    }
+    pairs_.swap(placed_);
 }
 
 void BroadPhase::sweep() {
@@ -100,16 +114,51 @@ void BroadPhase::sweep() {
     const Vec3 variance = sumSquares / n - (sum / n).cwiseProduct(sum / n);
     int axis = 0;
     variance.maxCoeff(&axis);
-    std::sort(entries_.begin(), entries_.end(),
-              [axis](const Entry& p, const Entry& q) { return p.box.min[axis] < q.box.min[axis]; });
-    for (std::size_t k = 0; k < entries_.size(); ++k) {
-        const Entry& p = entries_[k];
-        for (std::size_t m = k + 1; m < entries_.size(); ++m) {
-            const Entry& q = entries_[m];
+    sortAlong(axis);
+
+    // The boxes packed in that order, for the inner loop.
+    swept_.clear();
+    for (const std::uint32_t k : order_) swept_.push_back({entries_[k].box, entries_[k].index, entries_[k].isStatic});
+    const int u = (axis + 1) % 3, w = (axis + 2) % 3;  // the other two axes
+    for (std::size_t k = 0; k < swept_.size(); ++k) {
+        const Swept& p = swept_[k];
+        for (std::size_t m = k + 1; m < swept_.size(); ++m) {
+            const Swept& q = swept_[m];
             if (q.box.min[axis] > p.box.max[axis]) break;
-            if (p.isStatic && q.isStatic) continue;
-            if (overlap(p.box, q.box)) pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+            // On the sweep's axis the two overlap already: q begins within p.
+            if (q.box.min[u] > p.box.max[u] || p.box.min[u] > q.box.max[u] || q.box.min[w] > p.box.max[w] ||
+                p.box.min[w] > q.box.max[w] || (p.isStatic && q.isStatic)) {
+                continue;
+            }
+            pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
         }
+    }
+}
+
+void BroadPhase::sortAlong(int axis) {
+    // Bodies move little in a step, so the last call's order is nearly sorted: insertion sort puts
+    // it right in about one pass. A new scene (another number of boxes) or another axis starts from
+    // the bodies' order and is sorted from scratch, as is an order that insertion sort finds far
+    // from sorted.
+    const auto lower = [this, axis](std::uint32_t k) { return entries_[k].box.min[axis]; };
+    const bool warm = order_.size() == entries_.size() && axis == orderAxis_;
+    orderAxis_ = axis;
+    if (!warm) {
+        order_.resize(entries_.size());
+        for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<std::uint32_t>(k);
+    }
+    std::size_t shifts = 0;
+    const std::size_t maxShifts = 8 * order_.size();
+    for (std::size_t k = 1; warm && k < order_.size() && shifts <= maxShifts; ++k) {
+        const std::uint32_t moving = order_[k];
+        const double key = lower(moving);
+        std::size_t m = k;
+        for (; m > 0 && lower(order_[m - 1]) > key; --m) order_[m] = order_[m - 1];
+        order_[m] = moving;
+        shifts += k - m;
+    }
+    if (!warm || shifts > maxShifts) {
+        std::sort(order_.begin(), order_.end(), [&lower](std::uint32_t p, std::uint32_t q) { return lower(p) < lower(q); });
     }
 }
 

@@ -2,26 +2,35 @@
 // gpl/collision.h decide, and taut ropes join the contacts.
 #include "gpl/collision.h"
 
+#include <utility>
+
 #include "gpl/engine.h"
 
 namespace gpl {
 
+namespace {
+
+// The kernel for the shapes of a and b (a sphere comes first against a plane); none for two static
+// bodies and for shapes without a kernel yet. Each return hands the kernel's answer on uncopied.
+std::optional<Contact> kernelContact(const Body& a, const Body& b) {
+    if (a.isStatic() && b.isStatic()) return std::nullopt;
+    if (a.shape == Shape::Sphere && b.shape == Shape::Sphere) return sphereSphere(a, b);
+    if (a.shape == Shape::Sphere && b.shape == Shape::Plane) return spherePlane(a, b);
+    return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j) {
+    if (bodies[i].shape == Shape::Plane) std::swap(i, j);  // the sphere first against a plane
     const Body& p = bodies[i];
     const Body& q = bodies[j];
-    if (p.isStatic() && q.isStatic()) return std::nullopt;
-    std::optional<Contact> c;
-    if (p.shape == Shape::Sphere && q.shape == Shape::Sphere) {
-        c = sphereSphere(p, q);
-        if (c) c->a = i, c->b = j;
-    } else if (p.shape == Shape::Sphere && q.shape == Shape::Plane) {
-        c = spherePlane(p, q);
-        if (c) c->a = i, c->b = j;
-    } else if (p.shape == Shape::Plane && q.shape == Shape::Sphere) {
-        c = spherePlane(q, p);
-        if (c) c->a = j, c->b = i;
+    std::optional<Contact> c = kernelContact(p, q);
+    if (c) {
+        c->a = i;
+        c->b = j;
+        c->restitution = combineRestitution(p.restitution, q.restitution);
     }
-    if (c) c->restitution = combineRestitution(p.restitution, q.restitution);
     return c;
 }
 

@@ -77,9 +77,24 @@ Body plane(const std::string& name, const Vec3& normal);
 /// state is not finite or its mass properties are inconsistent.
 void validate(const Body& body);
 
-// Diagnostics per body (static bodies have no kinetic or potential energy and no momentum).
-double kineticEnergy(const Body& body);                         ///< J, translational + rotational
-double potentialEnergy(const Body& body, const Vec3& gravity);  ///< J, -m g.x (zero at the origin)
-Vec3 linearMomentum(const Body& body);                          ///< kg m/s
+// Diagnostics per body (static bodies have no kinetic or potential energy and no momentum). The
+// energies are defined here, inline, because integrator checks call them for every body and step.
+
+/// J, the rotational part of kineticEnergy().
+double rotationalEnergy(const Body& body);
+/// J, translational + rotational.
+inline double kineticEnergy(const Body& b) {
+    if (b.isStatic()) return 0.0;
+    const double translation = 0.5 * b.mass * b.velocity.squaredNorm();
+    // Not turning (every particle and sphere until worksheet 5): the rotational term is exactly 0.
+    if (b.angularVelocity.isZero(0.0)) return translation;
+    return translation + rotationalEnergy(b);
+}
+/// J, -m g.x (zero at the origin).
+inline double potentialEnergy(const Body& b, const Vec3& gravity) {
+    if (b.isStatic()) return 0.0;
+    return -b.mass * gravity.dot(b.position);
+}
+Vec3 linearMomentum(const Body& body);  ///< kg m/s
 
 }  // namespace gpl

@@ -69,17 +69,32 @@ private:
         std::uint32_t entry;
         bool operator<(const Filed& o) const { return cell < o.cell || (cell == o.cell && entry < o.entry); }
     };
+    /// A box as the sweep tests it, packed in the sweep's order.
+    struct Swept {
+        Aabb box;
+        std::size_t index;
+        bool isStatic;
+    };
     std::vector<Entry> entries_;
+    std::vector<std::uint32_t> order_;  ///< entries_ sorted along the sweep's axis, kept for the next call
+    int orderAxis_ = -1;                ///< the axis order_ is sorted along
+    std::vector<Swept> swept_;
     std::vector<Filed> filed_;
     std::vector<std::size_t> large_;  ///< entries tested against every other entry
     std::vector<double> sizes_;       ///< each entry's largest extent (m), for the grid's cell size
     std::vector<std::size_t> planes_;
     std::vector<BodyPair> pairs_;
+    std::vector<BodyPair> placed_;      ///< sortPairs()'s output, swapped with pairs_
+    std::vector<std::size_t> firsts_;   ///< sortPairs()'s count, then position, per first body
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
     int threads_ = defaultThreads();
 
     /// The pairs of entries_ by sort and sweep, or by the grid, into pairs_.
     void sweep();
+    /// Sorts order_ by the boxes' lower ends along the axis, starting from the last call's order.
+    void sortAlong(int axis);
+    /// Sorts pairs_ by (a, b) for a scene of this many bodies.
+    void sortPairs(std::size_t bodies);
     void grid();
     /// Tests the boxes filed under the same cell, for the cells filed_[first, last) begins, into pairs.
     void testCells(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;

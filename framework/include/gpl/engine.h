@@ -213,6 +213,8 @@ private:
     std::vector<BodyPair> nearPairs_;  ///< this step's broad-phase pairs with kContactMargin, likewise
     std::vector<char> pairInContacts_;  ///< per near pair: its contact is in contacts_ (0 or 1)
     std::vector<char> ropeInContacts_;  ///< per rope: its contact is in contacts_ (0 or 1)
+    std::vector<std::size_t> movedAt_;  ///< interpenetration's, per body: moves counted when it last moved
+    std::vector<std::size_t> apartAt_;  ///< interpenetration's, per near pair: moves counted when last found apart
     int contactIterations_ = 10;
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
@@ -222,6 +224,8 @@ private:
     void recordOpenKernels();
     /// The rope's contact from ropeContact(), with the framework's fields set; none while slack.
     std::optional<Contact> ropeContactOf(const Rope& rope) const;
+    /// e plus the energy of every spring, added one by one (J).
+    double plusSpringEnergies(double e) const;
 };
 
 }  // namespace gpl
