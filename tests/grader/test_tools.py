@@ -139,6 +139,19 @@ class Sandboxing(unittest.TestCase):
         rc, out, _, _ = Limits.limited(self, ["/bin/sh", "-c", probe], sandbox.default_limits(5))
         self.assertEqual((rc, out.strip()), (0, "hidden"))
 
+    def test_a_sanitizers_suppression_file_travels_without_showing_the_lab(self):
+        # The asan preset names cmake/lsan.supp in LSAN_OPTIONS: the test sees the file, not where it lies.
+        if not sandbox.Sandbox.here().isolated:
+            self.skipTest("no sandbox here")
+        supp = ROOT / "cmake" / "lsan.supp"
+        probe = f'test -e {ROOT} || echo hidden; echo "$LSAN_OPTIONS"; cmp -s /grader/lsan_options.supp - && echo same'
+        with mock.patch.dict(os.environ, {"LSAN_OPTIONS": f"suppressions={supp}:print_suppressions=0"}), \
+                tempfile.TemporaryDirectory() as tmp, open(supp, "rb") as f:
+            cmd, env, cwd = sandbox.Sandbox.here().command("/bin/sh", ["-c", probe], tmp, sandbox.default_limits(5), {})
+            proc = subprocess.run(cmd, env=env, cwd=cwd, stdin=f, capture_output=True, text=True, timeout=20)
+        self.assertEqual(proc.stdout.split(),
+                         ["hidden", "suppressions=/grader/lsan_options.supp:print_suppressions=0", "same"], proc.stderr)
+
     def test_a_batch_never_reserves_more_memory_than_there_is(self):
         budget = sandbox.MemoryBudget(total_mib=2600)  # 80 %: 2080 MiB, room for two tests of 1024
         self.assertEqual(budget.slots(1024), 2)

@@ -156,11 +156,15 @@ class Sandbox:
             setenv += ["--setenv", key, value]
         for key in SANITIZER_OPTIONS:  # the sanitizers' options travel, with their suppression files
             if key in os.environ:
-                setenv += ["--setenv", key, os.environ[key]]
+                parts = []
                 for part in os.environ[key].split(":"):
                     if part.startswith("suppressions=") and pathlib.Path(part.split("=", 1)[1]).is_file():
-                        path = part.split("=", 1)[1]
-                        binds += ["--ro-bind", path, path]
+                        # Bound under /grader, not at its own path, which would show the lab's folders.
+                        path = f"/grader/{key.lower()}.supp"
+                        binds += ["--ro-bind", part.split("=", 1)[1], path]
+                        part = f"suppressions={path}"
+                    parts.append(part)
+                setenv += ["--setenv", key, ":".join(parts)]
         args = [a.replace(str(folder / "report.json"), inside["report.json"]) for a in args]
         cmd = [self.bwrap, *NAMESPACES, *_system_binds(), "--size", str(2 * file_bytes), "--tmpfs", "/tmp",
                *binds, "--remount-ro", "/", "--remount-ro", "/dev", "--clearenv",
