@@ -12,6 +12,8 @@ RUN = os.environ.get("GPL_RUN_SOLUTIONS")
 VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 BENCH = os.environ.get("GPL_BENCH_SOLUTIONS")
 BENCH_CONTACTS = os.environ.get("GPL_BENCH_CONTACTS_SOLUTIONS")
+# Libraries to preload into the viewer in a sanitizer build (tests/CMakeLists.txt says why).
+PRELOAD = ["env", f"LD_PRELOAD={os.environ['GPL_VIEWER_PRELOAD']}"] if os.environ.get("GPL_VIEWER_PRELOAD") else []
 UNWRITABLE = "/proc/gpl-no-folder-here"  # /proc refuses new folders, even to root
 
 # (arguments, the option the line must name, what else it must say)
@@ -105,7 +107,7 @@ class CommandLineErrors(unittest.TestCase):
 
     @unittest.skipUnless(VIEWER, "GPL_VIEWER_SOLUTIONS names the viewer")
     def test_viewer_script(self):
-        cmd = ["xvfb-run", "-a", "-s", "-screen 0 320x240x24", VIEWER, "--width", "320", "--height", "240",
+        cmd = ["xvfb-run", "-a", "-s", "-screen 0 320x240x24", *PRELOAD, VIEWER, "--width", "320", "--height", "240",
                "--script", "wait 1; jump"]
         self.check(cmd, "--script", "got 'jump'")
 

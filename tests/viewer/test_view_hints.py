@@ -11,11 +11,13 @@ from concurrent.futures import ThreadPoolExecutor
 
 VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 RUNNER = os.environ.get("GPL_RUN_SOLUTIONS")
+# Libraries to preload into the viewer in a sanitizer build (tests/CMakeLists.txt says why).
+PRELOAD = ["env", f"LD_PRELOAD={os.environ['GPL_VIEWER_PRELOAD']}"] if os.environ.get("GPL_VIEWER_PRELOAD") else []
 FRAMES_PER_DUMP = 6  # 0.1 s of simulated time at 60 frames per second
 
 
 def viewer(*args, timeout=300):
-    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", VIEWER, *map(str, args)]
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *PRELOAD, VIEWER, *map(str, args)]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
     return proc.returncode, states, proc.stdout[-2000:] + proc.stderr[-2000:]
