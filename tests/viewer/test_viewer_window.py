@@ -245,7 +245,7 @@ class Window(unittest.TestCase):
 
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"
-        rc, states, log = viewer(SOLUTIONS, "projectile", "--script", f"wait 1; key v; wait 10; key v; dump; quit",
+        rc, states, log = viewer(SOLUTIONS, "projectile", "--script", "wait 1; key v; wait 10; key v; dump; quit",
                                  "--out", rec)
         self.assertEqual(rc, 0, log)
         folders = [p for p in rec.iterdir() if p.is_dir()]
