@@ -1,4 +1,4 @@
-// The heap of `./lab bench engine` in Bullet 3 (Debian libbullet-dev), set up as people use it:
+// The heap of `./lab bench engine` (spheres or cubes) in Bullet 3 (Debian libbullet-dev), set up as people use it:
 // the default collision configuration and dispatcher, the DBVT broad phase, the sequential-impulse
 // solver with the same iteration count, no sleeping, one fixed step of 1/60 s per call.
 #include <btBulletDynamicsCommon.h>
@@ -12,7 +12,7 @@ namespace gpl::bench {
 
 bool hasBullet() { return true; }
 
-HeapRun runBullet(std::size_t n, double seconds) {
+HeapRun runBullet(HeapShape shape, std::size_t n, double seconds) {
     btDefaultCollisionConfiguration configuration;
     btCollisionDispatcher dispatcher(&configuration);
     btDbvtBroadphase broadphase;
@@ -28,25 +28,31 @@ HeapRun runBullet(std::size_t n, double seconds) {
     world.addRigidBody(&ground);
 
     btSphereShape sphereShape(kRadius);
+    btBoxShape cubeShape(btVector3(kHalfSide, kHalfSide, kHalfSide));
+    btCollisionShape* bodyShape = shape == HeapShape::Spheres ? static_cast<btCollisionShape*>(&sphereShape) : &cubeShape;
     btVector3 inertia(0.0, 0.0, 0.0);
-    sphereShape.calculateLocalInertia(kMass, inertia);
-    std::vector<std::unique_ptr<btRigidBody>> spheres;
-    spheres.reserve(n);
-    for (const Vec3& p : heapPositions(n)) {
-        btTransform at;
-        at.setIdentity();
-        at.setOrigin(btVector3(p.x(), p.y(), p.z()));
-        btRigidBody::btRigidBodyConstructionInfo info(kMass, nullptr, &sphereShape, inertia);
-        info.m_startWorldTransform = at;
+    bodyShape->calculateLocalInertia(kMass, inertia);
+    std::vector<std::unique_ptr<btRigidBody>> bodies;
+    bodies.reserve(n);
+    const std::vector<Vec3> at = heapPositions(n);
+    const std::vector<Quat> turn = heapOrientations(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        btTransform pose;
+        pose.setIdentity();
+        pose.setOrigin(btVector3(at[i].x(), at[i].y(), at[i].z()));
+        if (shape == HeapShape::Boxes) pose.setRotation(btQuaternion(turn[i].x(), turn[i].y(), turn[i].z(), turn[i].w()));
+        btRigidBody::btRigidBodyConstructionInfo info(kMass, nullptr, bodyShape, inertia);
+        info.m_startWorldTransform = pose;
         info.m_friction = kFriction;
         info.m_restitution = 0.0;
-        spheres.push_back(std::make_unique<btRigidBody>(info));
-        spheres.back()->setActivationState(DISABLE_DEACTIVATION);
-        world.addRigidBody(spheres.back().get());
+        bodies.push_back(std::make_unique<btRigidBody>(info));
+        bodies.back()->setActivationState(DISABLE_DEACTIVATION);
+        world.addRigidBody(bodies.back().get());
     }
 
     HeapRun run;
     run.engine = "Bullet";
+    run.shape = shape;
     run.bodies = n;
     timeSteps(
         seconds, [&world] { world.stepSimulation(kTimeStep, 1, kTimeStep); },
@@ -57,15 +63,15 @@ HeapRun runBullet(std::size_t n, double seconds) {
             return contacts;
         },
         run);
-    std::vector<Vec3> x, v;
-    for (const auto& body : spheres) {
-        const btVector3& p = body->getCenterOfMassPosition();
-        const btVector3& u = body->getLinearVelocity();
-        x.emplace_back(p.x(), p.y(), p.z());
-        v.emplace_back(u.x(), u.y(), u.z());
+    const auto vec = [](const btVector3& u) { return Vec3(u.x(), u.y(), u.z()); };
+    std::vector<HeapBody> end;
+    for (const auto& body : bodies) {
+        const btQuaternion q = body->getOrientation();
+        end.push_back({vec(body->getCenterOfMassPosition()), Quat(q.w(), q.x(), q.y(), q.z()),
+                       vec(body->getLinearVelocity()), vec(body->getAngularVelocity())});
     }
-    measureQuality(x, v, run);
-    for (const auto& body : spheres) world.removeRigidBody(body.get());
+    measureQuality(end, run);
+    for (const auto& body : bodies) world.removeRigidBody(body.get());
     world.removeRigidBody(&ground);
     return run;
 }

@@ -1,14 +1,17 @@
 # The plot of the engine benchmark. Run by ./lab bench engine as
-#   gnuplot -e "dir='build/engine'; ext='png'" bench/engine.gp   (and ext='svg')
-# It reads engine-scaling.dat (N, this engine's and Bullet's median ms per step) and writes
-# engine-scaling.EXT beside it: ms per step against N on log-log axes, with N^1 for reference.
+#   gnuplot -e "dir='build/engine'; ext='png'; stem='engine'; what='spheres'" bench/engine.gp
+# (and ext='svg'; stem='engine-boxes', what='cubes' for --shape box). It reads STEM-scaling.dat (N,
+# this engine's and Bullet's median ms per step) and writes STEM-scaling.EXT beside it: ms per step
+# against N on log-log axes, with N^1 for reference.
 if (!exists("dir")) dir = 'build/engine'
 if (!exists("ext")) ext = 'png'
+if (!exists("stem")) stem = 'engine'
+if (!exists("what")) what = 'spheres'
 if (ext eq 'svg') { set terminal svg size 800,560 dynamic font 'sans,12' } else { set terminal pngcairo size 800,560 font 'sans,10' }
-set output dir.'/engine-scaling.'.ext
-data = dir.'/engine-scaling.dat'
-set title 'A heap of N spheres dropped on a plane: wall time per step (median), one run'
-set xlabel 'spheres N'
+set output dir.'/'.stem.'-scaling.'.ext
+data = dir.'/'.stem.'-scaling.dat'
+set title 'A heap of N '.what.' dropped on a plane: wall time per step (median), one run'
+set xlabel what.' N'
 set ylabel 'ms per step'
 set logscale xy
 set format x '10^{%L}'

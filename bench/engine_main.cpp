@@ -1,4 +1,5 @@
-// gpl-bench-engine: this engine against Bullet on the same heap of spheres (./lab bench engine),
+// gpl-bench-engine: this engine against Bullet on the same heap of spheres or of cubes (./lab bench
+// engine [--shape box]),
 // side by side from one run: time per step, contacts per step and the quality of the settled heap,
 // for heaps of growing size, with the fitted scaling exponent of each engine; and the cost of
 // integration alone against a bare loop over packed arrays.
@@ -98,12 +99,15 @@ void integrationAlone(std::size_t n, std::size_t steps, std::ostream& out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"This engine against Bullet on the same heap of spheres (./lab bench engine)"};
+    CLI::App app{"This engine against Bullet on the same heap of spheres or cubes (./lab bench engine)"};
     std::vector<std::size_t> sizes{100, 300, 1000, 3000, 8000};
     std::string out = "build/engine";
     bool skipBullet = false;
+    std::string shapeName = "sphere";
     int threads = gpl::PhysicsEngine().threads();
-    app.add_option("--sizes", sizes, "numbers of spheres, e.g. --sizes 1000 8000")
+    app.add_option("--shape", shapeName, "what the heap is made of: sphere (radius 0.5 m) or box (cubes of half side 0.3 m)")
+        ->check(CLI::IsMember({"sphere", "box"}));
+    app.add_option("--sizes", sizes, "numbers of bodies, e.g. --sizes 1000 8000")
         ->check(gpl::cli::wholeNumber(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");
@@ -121,7 +125,11 @@ int main(int argc, char** argv) {
     }
     try {
         gpl::study::Output output(out);
-        std::cout << "heap of spheres (r = 0.5 m, 1 kg, lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
+        const bool boxes = shapeName == "box";
+        const gpl::bench::HeapShape shape = boxes ? gpl::bench::HeapShape::Boxes : gpl::bench::HeapShape::Spheres;
+        const std::string stem = boxes ? "engine-boxes" : "engine";  // of the files written
+        std::cout << (boxes ? "heap of cubes (half side 0.3 m, 1 kg, turned at random" : "heap of spheres (r = 0.5 m, 1 kg")
+                  << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
                   << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling; "
                   << "this engine's broad phase on " << threads << (threads == 1 ? " thread\n" : " threads\n")
                   << "this engine has no friction yet (worksheet 7): its heap spreads where Bullet's (friction "
@@ -131,13 +139,13 @@ int main(int argc, char** argv) {
                                 "height m", "KE end J"};
         for (std::size_t c = 0; c < widths.size(); ++c) std::cout << pad(header[c], widths[c]);
         std::cout << '\n';
-        auto csv = output.open("engine.csv");
+        auto csv = output.open(stem + ".csv");
         csv << "bodies,engine,steps,median_ms,p90_ms,contacts_per_step,deepest_m,height_m,kinetic_j\n";
         std::vector<HeapRun> ours, theirs;
         for (std::size_t n : sizes) {
             const double seconds = gpl::bench::settleTime(n);
-            std::vector<HeapRun> pair{gpl::bench::runOurs(n, seconds, threads)};
-            if (bullet) pair.push_back(gpl::bench::runBullet(n, seconds));
+            std::vector<HeapRun> pair{gpl::bench::runOurs(shape, n, seconds, threads)};
+            if (bullet) pair.push_back(gpl::bench::runBullet(shape, n, seconds));
             ours.push_back(pair[0]);
             if (bullet) theirs.push_back(pair[1]);
             for (const HeapRun& r : pair) {
@@ -152,7 +160,7 @@ int main(int argc, char** argv) {
                     << r.contactsPerStep << ',' << r.deepest << ',' << r.height << ',' << r.kinetic << '\n';
             }
         }
-        auto dat = output.open("engine-scaling.dat");
+        auto dat = output.open(stem + "-scaling.dat");
         dat << "# bodies ours_median_ms bullet_median_ms\n";
         for (std::size_t i = 0; i < ours.size(); ++i) {
             dat << ours[i].bodies << ' ' << ours[i].medianMs << ' ' << (bullet ? theirs[i].medianMs : std::nan(""))
@@ -162,7 +170,7 @@ int main(int argc, char** argv) {
                   << fixed(scalingExponent(ours), 2);
         if (bullet) std::cout << ", Bullet " << fixed(scalingExponent(theirs), 2);
         std::cout << '\n';
-        integrationAlone(1000, 2000, std::cout);
+        if (!boxes) integrationAlone(1000, 2000, std::cout);
         std::cout << "\nwrote";
         for (const std::string& f : output.written()) std::cout << ' ' << out << '/' << f;
         std::cout << '\n';

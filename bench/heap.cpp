@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <random>
 #include <unordered_map>
 
 #include "gpl/body.h"
+#include "gpl/collision.h"
 #include "gpl/engine.h"
 
 namespace gpl::bench {
@@ -31,6 +33,16 @@ std::vector<Vec3> heapPositions(std::size_t n) {
     return at;
 }
 
+std::vector<Quat> heapOrientations(std::size_t n) {
+    std::mt19937 random(2);  // fixed seed, as the lattice's
+    std::normal_distribution<double> normal;
+    std::vector<Quat> q;
+    q.reserve(n);
+    // Four normal numbers, normalised: a direction uniform on the sphere of unit quaternions.
+    while (q.size() < n) q.push_back(Quat(normal(random), normal(random), normal(random), normal(random)).normalized());
+    return q;
+}
+
 void timeSteps(double seconds, const std::function<void()>& step, const std::function<double()>& contacts,
                HeapRun& run) {
     const auto steps = static_cast<std::size_t>(std::ceil(seconds / kTimeStep));
@@ -51,41 +63,72 @@ void timeSteps(double seconds, const std::function<void()>& step, const std::fun
     run.p90Ms = stepMs[std::min(stepMs.size() - 1, stepMs.size() * 9 / 10)];
 }
 
-void measureQuality(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, HeapRun& run) {
-    run.deepest = 0.0;
-    run.height = 0.0;
-    run.kinetic = 0.0;
-    // A grid of cells one diameter wide: overlapping spheres are in the same or neighbouring cells.
-    const double cell = 2.0 * kRadius;
+namespace {
+
+// The cells of a grid `cell` wide that hold each body's centre: bodies that may overlap are in the
+// same or neighbouring cells when the cell is at least the largest distance of two touching centres.
+template <class Visit>
+void nearPairs(const std::vector<HeapBody>& bodies, double cell, Visit visit) {
     const auto key = [](long x, long y, long z) { return (x * 73856093) ^ (y * 19349663) ^ (z * 83492791); };
+    const auto cellOf = [cell](double u) { return std::lround(std::floor(u / cell)); };
     std::unordered_multimap<long, std::size_t> grid;
-    grid.reserve(positions.size());
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-        const Vec3& p = positions[i];
-        grid.emplace(key(std::lround(std::floor(p.x() / cell)), std::lround(std::floor(p.y() / cell)),
-                         std::lround(std::floor(p.z() / cell))),
-                     i);
-        run.deepest = std::max(run.deepest, kRadius - p.y());
-        run.height = std::max(run.height, p.y() + kRadius);
-        run.kinetic += 0.5 * kMass * velocities[i].squaredNorm();
+    grid.reserve(bodies.size());
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        const Vec3& p = bodies[i].position;
+        grid.emplace(key(cellOf(p.x()), cellOf(p.y()), cellOf(p.z())), i);
     }
-    for (std::size_t i = 0; i < positions.size(); ++i) {
-        const Vec3& p = positions[i];
-        const long cx = std::lround(std::floor(p.x() / cell)), cy = std::lround(std::floor(p.y() / cell)),
-                   cz = std::lround(std::floor(p.z() / cell));
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        const Vec3& p = bodies[i].position;
+        const long cx = cellOf(p.x()), cy = cellOf(p.y()), cz = cellOf(p.z());
         for (long dx = -1; dx <= 1; ++dx) {
             for (long dy = -1; dy <= 1; ++dy) {
                 for (long dz = -1; dz <= 1; ++dz) {
                     const auto [first, last] = grid.equal_range(key(cx + dx, cy + dy, cz + dz));
                     for (auto it = first; it != last; ++it) {
-                        if (it->second <= i) continue;
-                        const double d = (positions[it->second] - p).norm();
-                        run.deepest = std::max(run.deepest, 2.0 * kRadius - d);
+                        if (it->second > i) visit(i, it->second);
                     }
                 }
             }
         }
     }
+}
+
+}  // namespace
+
+void measureQuality(const std::vector<HeapBody>& bodies, HeapRun& run) {
+    run.deepest = 0.0;
+    run.height = 0.0;
+    run.kinetic = 0.0;
+    if (run.shape == HeapShape::Spheres) {
+        for (const HeapBody& b : bodies) {
+            run.deepest = std::max(run.deepest, kRadius - b.position.y());
+            run.height = std::max(run.height, b.position.y() + kRadius);
+            // Translation only, in both engines: this engine does not step a sphere's rotation.
+            run.kinetic += 0.5 * kMass * b.velocity.squaredNorm();
+        }
+        nearPairs(bodies, 2.0 * kRadius, [&](std::size_t i, std::size_t j) {
+            run.deepest = std::max(run.deepest, 2.0 * kRadius - (bodies[i].position - bodies[j].position).norm());
+        });
+        return;
+    }
+    // Cubes, as this engine's bodies, measured by its reference kernels.
+    const Vec3 half = Vec3::Constant(kHalfSide);
+    const Body ground = plane("ground", Vec3::UnitY());
+    std::vector<Body> cubes;
+    cubes.reserve(bodies.size());
+    const double inertia = kMass * (2.0 * kHalfSide) * (2.0 * kHalfSide) / 6.0;  // kg m^2, about any axis
+    for (const HeapBody& b : bodies) {
+        cubes.push_back(box("cube", half, kMass).at(b.position).rotated(b.orientation));
+        if (const std::optional<Contact> c = boxPlane(cubes.back(), ground)) run.deepest = std::max(run.deepest, c->depth);
+        for (int k = 0; k < 8; ++k) {
+            const Vec3 corner((k & 1 ? 1 : -1) * kHalfSide, (k & 2 ? 1 : -1) * kHalfSide, (k & 4 ? 1 : -1) * kHalfSide);
+            run.height = std::max(run.height, (b.position + b.orientation * corner).y());
+        }
+        run.kinetic += 0.5 * kMass * b.velocity.squaredNorm() + 0.5 * inertia * b.angularVelocity.squaredNorm();
+    }
+    nearPairs(bodies, 2.0 * std::sqrt(3.0) * kHalfSide, [&](std::size_t i, std::size_t j) {
+        if (const std::optional<Contact> c = boxBox(cubes[i], cubes[j])) run.deepest = std::max(run.deepest, c->depth);
+    });
 }
 
 double settleTime(std::size_t n) {
@@ -95,29 +138,40 @@ double settleTime(std::size_t n) {
     return std::sqrt(2.0 * top / 9.81) + 3.0;
 }
 
-HeapRun runOurs(std::size_t n, double seconds, int threads) {
+HeapRun runOurs(HeapShape shape, std::size_t n, double seconds, int threads) {
     PhysicsEngine e;
     e.setThreads(threads);
-    e.setRequiredStages({Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
-                         Stage::Interpenetration, Stage::CollisionImpulses});
+    StageSet stages{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection, Stage::Interpenetration,
+                    Stage::CollisionImpulses};
+    if (shape == HeapShape::Boxes) stages.insert(Stage::Rotation);
+    e.setRequiredStages(stages);
     e.setTimeStep(kTimeStep);
     e.setContactIterations(kIterations);
     e.add(plane("ground", Vec3::UnitY()));
-    std::size_t i = 0;
-    for (const Vec3& p : heapPositions(n)) {
-        e.add(sphere("sphere" + std::to_string(i++), kRadius, kMass).at(p).bouncy(0.0));
+    const std::vector<Vec3> at = heapPositions(n);
+    const std::vector<Quat> turn = heapOrientations(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::string name = "body" + std::to_string(i);
+        Body b = shape == HeapShape::Spheres ? sphere(name, kRadius, kMass) : box(name, Vec3::Constant(kHalfSide), kMass).rotated(turn[i]);
+        e.add(b.at(at[i]).bouncy(0.0));
     }
     HeapRun run;
     run.engine = "ours";
+    run.shape = shape;
     run.bodies = n;
-    timeSteps(seconds, [&e] { e.step(); }, [&e] { return static_cast<double>(e.contacts().size()); }, run);
-    std::vector<Vec3> x, v;
+    // Contact points, as Bullet's manifolds count them (a sphere's contact has one, a cube's up to 4).
+    const auto points = [&e] {
+        double count = 0.0;
+        for (const Contact& c : e.contacts()) count += c.pointCount;
+        return count;
+    };
+    timeSteps(seconds, [&e] { e.step(); }, points, run);
+    std::vector<HeapBody> end;
     for (const Body& b : e.bodies()) {
-        if (b.shape != Shape::Sphere) continue;
-        x.push_back(b.position);
-        v.push_back(b.velocity);
+        if (b.isStatic()) continue;
+        end.push_back({b.position, b.orientation, b.velocity, b.angularVelocity});
     }
-    measureQuality(x, v, run);
+    measureQuality(end, run);
     return run;
 }
 

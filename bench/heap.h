@@ -1,6 +1,7 @@
-// The heap both engines of `./lab bench engine` simulate: N spheres (radius 0.5 m, 1 kg) on a
-// jittered cubic lattice of spacing 1.2 m (fixed seed), dropped on a static plane y = 0, restitution
-// 0, friction 0.5 where the engine has friction, fixed steps of 1/60 s, 10 solver iterations.
+// The heap both engines of `./lab bench engine` simulate: N spheres (radius 0.5 m, 1 kg) or N cubes
+// (half side 0.3 m, 1 kg, each turned at random) on a jittered cubic lattice of spacing 1.2 m (fixed
+// seed), dropped on a static plane y = 0, restitution 0, friction 0.5 where the engine has friction,
+// fixed steps of 1/60 s, 10 solver iterations.
 #pragma once
 
 #include <cstddef>
@@ -12,7 +13,11 @@
 
 namespace gpl::bench {
 
-constexpr double kRadius = 0.5;       // m
+enum class HeapShape { Spheres, Boxes };
+
+constexpr double kRadius = 0.5;       // m, of a sphere
+constexpr double kHalfSide = 0.3;     // m, of a cube: its corners (0.52 m out) stay clear of the
+                                      // neighbours' at any turn (centres 1.1 m apart at least)
 constexpr double kMass = 1.0;         // kg
 constexpr double kSpacing = 1.2;      // m between lattice points
 constexpr double kFriction = 0.5;
@@ -22,18 +27,29 @@ constexpr int kIterations = 10;       // sweeps of the contact solver per step
 /// The lattice points of the heap: side = ceil(cbrt(n)) along x and z, as many layers as it takes,
 /// centred on the y axis, the lowest 1 m above the plane, each jittered by up to 0.05 m.
 std::vector<Vec3> heapPositions(std::size_t n);
+/// The orientations of the cubes: uniformly random unit quaternions (fixed seed).
+std::vector<Quat> heapOrientations(std::size_t n);
+
+/// The state of one body of the heap at the end, world frame.
+struct HeapBody {
+    Vec3 position;
+    Quat orientation = Quat::Identity();
+    Vec3 velocity;
+    Vec3 angularVelocity;
+};
 
 /// What one engine did on one heap: time per step and the quality of the answer.
 struct HeapRun {
     std::string engine;
+    HeapShape shape = HeapShape::Spheres;
     std::size_t bodies = 0;
     std::size_t steps = 0;
     double medianMs = 0.0;       ///< per step
     double p90Ms = 0.0;          ///< per step
     double contactsPerStep = 0.0;  ///< mean over the steps
-    double deepest = 0.0;        ///< m: largest overlap between spheres or with the plane, at the end
-    double height = 0.0;         ///< m: the top of the settled heap (highest sphere's top)
-    double kinetic = 0.0;        ///< J: kinetic energy at the end (settled: near 0)
+    double deepest = 0.0;        ///< m: largest overlap between bodies or with the plane, at the end
+    double height = 0.0;         ///< m: the top of the settled heap (highest sphere's top, cube's corner)
+    double kinetic = 0.0;        ///< J: kinetic energy at the end, translation and rotation (settled: near 0)
 };
 
 /// Steps an engine through `seconds` of simulated time, timing each step (median and 90th
@@ -41,17 +57,20 @@ struct HeapRun {
 void timeSteps(double seconds, const std::function<void()>& step, const std::function<double()>& contacts,
                HeapRun& run);
 
-/// The quality figures of a state (positions and velocities of the spheres), into run.
-void measureQuality(const std::vector<Vec3>& positions, const std::vector<Vec3>& velocities, HeapRun& run);
+/// The quality figures of the heap's state at the end, into run (run.shape says what the bodies
+/// are). Both engines' states are measured alike: the overlaps of cubes by this engine's reference
+/// kernels boxBox() and boxPlane() (worksheet 5), of spheres by their distances.
+void measureQuality(const std::vector<HeapBody>& bodies, HeapRun& run);
 
-/// Simulated time (s) the heap of n spheres needs to fall and settle: the fall from the top layer
+/// Simulated time (s) the heap of n bodies needs to fall and settle: the fall from the top layer
 /// plus 3 s.
 double settleTime(std::size_t n);
 
-/// This engine (the hooks it is linked with) on the heap, its broad phase with this many threads.
-HeapRun runOurs(std::size_t n, double seconds, int threads);
+/// This engine (the hooks it is linked with) on the heap, its broad phase with this many threads;
+/// cubes with the rotation stage (worksheet 6).
+HeapRun runOurs(HeapShape shape, std::size_t n, double seconds, int threads);
 /// Bullet's default pipeline on the same heap; only when built with Bullet (hasBullet()).
-HeapRun runBullet(std::size_t n, double seconds);
+HeapRun runBullet(HeapShape shape, std::size_t n, double seconds);
 bool hasBullet();
 
 }  // namespace gpl::bench
