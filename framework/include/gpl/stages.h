@@ -13,6 +13,7 @@ enum class Stage {
     ConstantAcceleration,  ///< forces: gravity into every movable body's accumulator (worksheet 1)
     Springs,               ///< forces: Hooke springs (optionally damped) add theirs (worksheet 2)
     Integration,           ///< advance velocities and positions by one time step (worksheets 1, 2)
+    Rotation,              ///< advance orientations and angular velocities, integrateRotation() (worksheet 6)
     CollisionDetection,    ///< find the contacts: broad phase, then sphereSphere(), spherePlane() (worksheet 3)
     Ropes,                 ///< taut ropes become contacts that pull, ropeContact() (worksheet 4)
     Interpenetration,      ///< move overlapping bodies apart, resolveInterpenetration() (worksheet 3)
