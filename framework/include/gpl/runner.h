@@ -19,6 +19,8 @@ struct RunSummary {
     double maxSpeed = 0.0;           ///< largest speed of any body at the end (m/s)
     std::size_t maxContacts = 0;     ///< most contacts found in one step
     double deepestContact = 0.0;     ///< largest depth of any contact found, before resolution (m)
+    Vec3 initialAngularMomentum = Vec3::Zero();  ///< the world's, about the origin (kg m^2/s)
+    Vec3 finalAngularMomentum = Vec3::Zero();    ///< likewise, at the end
     std::string error;               ///< empty, or why the run stopped early (a non-finite state)
 };
 
