@@ -63,7 +63,7 @@ TEST(RotationEngine, RotationScenesDeclareTheirStagesAndViews) {
         EXPECT_TRUE(s.stages.contains(Stage::Rotation)) << s.name;
         EXPECT_GT(s.viewDistance, 0.0) << s.name << ": a view hint";
     }
-    EXPECT_GE(turning, 2);
+    EXPECT_GE(turning, 1);
 }
 
 }  // namespace
