@@ -44,8 +44,9 @@ inline Body turningBody(Random& rnd, const std::string& name, int i) {
 /// Angle (rad) of the rotation that takes q to r: 0 when they are the same orientation (q and -q
 /// are the same orientation).
 inline double angleBetween(const Quat& q, const Quat& r) {
-    const double c = std::min(1.0, std::abs(q.normalized().dot(r.normalized())));
-    return 2.0 * std::acos(c);
+    // From the quaternion of the difference, atan2 rather than acos: exact near 0, where acos loses half the digits.
+    const Quat d = q.normalized().conjugate() * r.normalized();
+    return 2.0 * std::atan2(d.vec().norm(), std::abs(d.w()));
 }
 
 inline std::string str(const Quat& q) {
