@@ -8,13 +8,17 @@
 //   BM_DetectCollisions/N, BM_Interpenetration/N, BM_Impulses/N
 //                              one stage on the heap (the state is put back, untimed, before each)
 //   BM_Integration/N           integrate() on the free fall
+//   BM_IntegrateRotation, BM_ApplyContactImpulse
+//                              one call of each rotation kernel (a tumbling box; a box on four points)
+//   BM_Rotation/N              the rotation stage, rotate(), on N tumbling boxes
 //   BM_StepFreeFall/N, BM_StepFreeFallIdleStages/N and BM_GravityAndIntegrationOnly/N
 //                              a whole step of a scene that requires gravity and integration; the
-//                              same scene holding springs, distance constraints, ropes and a
-//                              container whose stages it does not require (equal times: the
-//                              stages a scene does not require cost nothing, their data included);
-//                              and the two stages called directly (the rest of the first is the
-//                              step's own check that every body is still finite)
+//                              same scene holding springs, distance constraints, ropes, a container
+//                              and a torque on every body, whose stages (rotation among them) it does
+//                              not require (equal times: the stages a scene does not require cost
+//                              nothing, their data included); and the two stages called directly
+//                              (the rest of the first is the step's own check that every body is
+//                              still finite)
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -24,6 +28,7 @@
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"
+#include "gpl/rotation.h"
 #include "heap.h"
 
 namespace {
@@ -130,16 +135,20 @@ BENCHMARK(BM_DetectCollisions)->RangeMultiplier(4)->Range(64, 16384)->Complexity
 
 void BM_Interpenetration(benchmark::State& state) {
     heapStage(state, [](PhysicsEngine& e, bool timed) {
-        if (timed) e.resolveInterpenetrations();
-        else e.detectCollisions();
+        if (timed)
+            e.resolveInterpenetrations();
+        else
+            e.detectCollisions();
     });
 }
 BENCHMARK(BM_Interpenetration)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
 
 void BM_Impulses(benchmark::State& state) {
     heapStage(state, [](PhysicsEngine& e, bool timed) {
-        if (timed) e.applyCollisionImpulses();
-        else e.detectCollisions();
+        if (timed)
+            e.applyCollisionImpulses();
+        else
+            e.detectCollisions();
     });
 }
 BENCHMARK(BM_Impulses)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
@@ -152,6 +161,51 @@ void BM_Integration(benchmark::State& state) {
     state.SetComplexityN(state.range(0));
 }
 BENCHMARK(BM_Integration)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+// A box turning about no axis of its own (its angular velocity changes every step).
+gpl::Body tumblingBox(const std::string& name) {
+    return gpl::box(name, Vec3(0.15, 0.4, 0.8), 2.0)
+        .rotated(gpl::Quat(Eigen::AngleAxisd(0.7, Vec3(1.0, 2.0, 3.0).normalized())))
+        .spinning(Vec3(0.5, 3.0, 0.5));
+}
+
+void BM_IntegrateRotation(benchmark::State& state) {
+    gpl::Body b = tumblingBox("box");
+    for (auto _ : state) {
+        gpl::integrateRotation(b, gpl::bench::kTimeStep);
+        benchmark::DoNotOptimize(b.orientation);
+        benchmark::DoNotOptimize(b.angularVelocity);
+    }
+}
+BENCHMARK(BM_IntegrateRotation);
+
+void BM_ApplyContactImpulse(benchmark::State& state) {
+    const gpl::Body start = tumblingBox("box").at(Vec3(0.0, 0.3, 0.0)).moving(Vec3(0.0, -1.0, 0.0));
+    gpl::Body floor = gpl::plane("floor", Vec3::UnitY());
+    gpl::Contact c;
+    c.normal = -Vec3::UnitY();  // from the box into the floor
+    c.pointCount = 4;
+    c.points = {Vec3(-0.15, 0.0, -0.4), Vec3(0.15, 0.0, -0.4), Vec3(0.15, 0.0, 0.4), Vec3(-0.15, 0.0, 0.4)};
+    gpl::Body b = start;
+    for (auto _ : state) {
+        b.velocity = start.velocity;  // approaching every time
+        b.angularVelocity = start.angularVelocity;
+        gpl::applyContactImpulse(c, b, floor);
+        benchmark::DoNotOptimize(b.velocity);
+        benchmark::DoNotOptimize(b.angularVelocity);
+    }
+}
+BENCHMARK(BM_ApplyContactImpulse);
+
+void BM_Rotation(benchmark::State& state) {
+    PhysicsEngine e;
+    e.setRequiredStages({Stage::Integration, Stage::Rotation});
+    e.setTimeStep(gpl::bench::kTimeStep);
+    for (int64_t i = 0; i < state.range(0); ++i) e.add(tumblingBox("b" + std::to_string(i)));
+    for (auto _ : state) e.rotate();
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_Rotation)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
 
 void BM_StepFreeFall(benchmark::State& state) {
     PhysicsEngine e;
@@ -173,6 +227,9 @@ void BM_StepFreeFallIdleStages(benchmark::State& state) {
         e.addRope(a, b, 2.0);
     }
     e.setContainer(Vec3(0.0, 1e6, 0.0), 1e9);
+    // A torque on every body, for the rotation stage (worksheet 6); the particles do not turn, as
+    // in any scene of particles or spheres.
+    for (gpl::Body& b : e.bodies()) b.torque = Vec3(0.0, 0.0, 1.0);
     for (auto _ : state) e.step();
     state.SetComplexityN(state.range(0));
 }
