@@ -23,12 +23,12 @@ void applyContactImpulse([[maybe_unused]] const Contact& contact, [[maybe_unused
     for (int k = 0; k < contact.pointCount; ++k) {
         const Vec3& p = contact.points[k];
         const Vec3 ra = p - a.position, rb = p - b.position;  // m
-        const double approach =
-            (b.velocity + b.angularVelocity.cross(rb) - a.velocity - a.angularVelocity.cross(ra)).dot(n);
+        const Vec3 relative = b.velocity + b.angularVelocity.cross(rb) - a.velocity - a.angularVelocity.cross(ra);
+        const double approach = relative.dot(n);  // v_rel (m/s)
         if (approach >= 0.0) continue;
         // 1 / effective mass along n at p (1/kg): the speed j = 1 N s along n there gives the pair.
-        const double w =
-            a.invMass + b.invMass + n.dot((invIa * ra.cross(n)).cross(ra) + (invIb * rb.cross(n)).cross(rb));
+        const Vec3 turning = (invIa * ra.cross(n)).cross(ra) + (invIb * rb.cross(n)).cross(rb);
+        const double w = a.invMass + b.invMass + n.dot(turning);
         if (w <= 0.0) return;
         // The normal impulse of this point (N s). Worksheet 7 keeps one sum per point over the sweeps,
         // clamped at 0 so that the contact never pulls, and adds friction here, through
