@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "gpl/engine.h"
 #include "gpl/rotation.h"
@@ -26,6 +27,30 @@ TEST(RotationEngine, TurnsOnlyWhenTheSceneDeclaresRotation) {
         EXPECT_EQ(spinner.orientation.coeffs() != start[0].orientation.coeffs(), declared);
         EXPECT_EQ(e.body("wall").orientation.coeffs(), start[1].orientation.coeffs());
         EXPECT_EQ(e.body("wall").angularVelocity, Vec3::Zero());
+    }
+}
+
+TEST(RotationEngine, SpheresBounceAlikeWithOrWithoutRotation) {
+    // A sphere's contact points lie on the line of the centres along the normal, so the impulse at
+    // the point (rotation declared) is worksheet 4's at the centres (not declared): the same bounces.
+    std::vector<std::vector<Body>> runs;
+    for (const bool declared : {false, true}) {
+        PhysicsEngine e;
+        StageSet stages{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                        Stage::Interpenetration, Stage::CollisionImpulses};
+        if (declared) stages.insert(Stage::Rotation);
+        e.setRequiredStages(stages);
+        e.add(plane("floor", {0.0, 1.0, 0.0}));
+        e.add(sphere("a", 0.3, 1.0).at({0.0, 1.0, 0.0}).moving({1.0, 0.0, 0.0}).bouncy(0.7));
+        e.add(sphere("b", 0.4, 2.0).at({1.5, 2.0, 0.1}).moving({-1.0, 0.0, 0.0}).bouncy(0.9));
+        for (int i = 0; i < 300; ++i) e.step();
+        runs.push_back(e.bodies());
+    }
+    for (std::size_t i = 1; i < runs[0].size(); ++i) {
+        EXPECT_LE((runs[0][i].position - runs[1][i].position).norm(), 1e-9) << runs[0][i].name;
+        EXPECT_LE((runs[0][i].velocity - runs[1][i].velocity).norm(), 1e-9) << runs[0][i].name;
+        // r x n of a sphere's contact is zero up to the rounding of the contact point (~1e-16 m).
+        EXPECT_LE(runs[1][i].angularVelocity.norm(), 1e-12) << runs[0][i].name << " started to turn";
     }
 }
 
