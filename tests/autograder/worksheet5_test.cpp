@@ -165,9 +165,14 @@ GRADED_TEST(Worksheet5, SphereBoxApartOrTouching, 2,
             out.normalize();
         }
         const double r = rnd.uniform(0.1, 1.0);
-        const Body ball = sphereNear(bx, local, out, r * rnd.uniform(1.001, 3.0), r);
+        const bool apart = i % 4 != 0;  // every fourth sphere reaches the box: that one must touch
+        const Body ball = sphereNear(bx, local, out, r * (apart ? rnd.uniform(1.001, 3.0) : rnd.uniform(0.05, 0.95)), r);
         const std::optional<Contact> c = sphereBox(ball, bx);
-        ASSERT_FALSE(c) << "the sphere does not reach the box, yet: " << str(c) << pairText(ball, bx);
+        if (apart) {
+            ASSERT_FALSE(c) << "the sphere does not reach the box, yet: " << str(c) << pairText(ball, bx);
+        } else {
+            ASSERT_TRUE(c) << "the sphere reaches into the box, but there is no contact" << pairText(ball, bx);
+        }
     }
     // Exactly touching, with distances exact in binary: a face, and an edge at distance 0.75-1-1.25.
     const Body bx = box("box", {0.5, 0.25, 1.0}, 1.0).at({1.0, 2.0, 3.0});
@@ -280,9 +285,14 @@ GRADED_TEST(Worksheet5, BoxPlaneApartOrTouching, 2,
         const Vec3 n = checks::worldNormal(pl);
         double lowest = INFINITY;
         for (const Vec3& x : corners(bx)) lowest = std::min(lowest, n.dot(x - bx.position));
-        pl.at(bx.position + (lowest - rnd.uniform(0.001, 2.0)) * n);
+        const bool apart = i % 4 != 0;  // every fourth box reaches a little behind the plane: that one touches
+        pl.at(bx.position + (lowest + (apart ? -rnd.uniform(0.001, 2.0) : rnd.uniform(0.001, 0.1))) * n);
         const std::optional<Contact> c = boxPlane(bx, pl);
-        ASSERT_FALSE(c) << "every corner is in front of the plane, yet: " << str(c) << pairText(bx, pl);
+        if (apart) {
+            ASSERT_FALSE(c) << "every corner is in front of the plane, yet: " << str(c) << pairText(bx, pl);
+        } else {
+            ASSERT_TRUE(c) << "a corner is behind the plane, but there is no contact" << pairText(bx, pl);
+        }
     }
     // Exactly resting, heights exact in binary: flat on a face, unturned and turned half a turn about
     // z (a rotation whose matrix is exact).
@@ -298,10 +308,11 @@ GRADED_TEST(Worksheet5, BoxPlaneApartOrTouching, 2,
 
 // ---- boxBox() ----------------------------------------------------------------------------------------
 
-// Box b standing on the face +axis k of box a, `depth` into it, turned about that axis by `angle`
-// and shifted along the face by (du, dv) times a's half extents.
-Body standingOn(const Body& a, int k, const Vec3& halfB, double depth, double angle, double du, double dv) {
-    const Vec3 up = axis(a, k);
+// Box b standing on the face `side` (+1 or -1) times axis k of box a, `depth` into it, turned about
+// that axis by `angle` and shifted along the face by (du, dv) times a's half extents.
+Body standingOn(const Body& a, int k, double side, const Vec3& halfB, double depth, double angle, double du,
+                double dv) {
+    const Vec3 up = side * axis(a, k);
     const int u = (k + 1) % 3, v = (k + 2) % 3;
     const Quat turn(Eigen::AngleAxisd(angle, up));
     // b's axis k along a's: b is a turned about `up`.
@@ -322,12 +333,13 @@ GRADED_TEST(Worksheet5, BoxBoxFace, 3,
         const int k = i % 3;
         const Vec3 halfB(rnd.uniform(0.2, 2.0), rnd.uniform(0.2, 2.0), rnd.uniform(0.2, 2.0));
         const double depth = rnd.uniform(0.001, 0.1) * std::min(a.halfExtents[k], halfB[k]);
-        const Body b = standingOn(a, k, halfB, depth, rnd.uniform(0.0, 2.0 * M_PI), rnd.uniform(-0.5, 0.5),
+        const double side = (i / 3) % 2 == 0 ? 1.0 : -1.0;  // on top of a's face +k or under its face -k
+        const Body b = standingOn(a, k, side, halfB, depth, rnd.uniform(0.0, 2.0 * M_PI), rnd.uniform(-0.5, 0.5),
                                   rnd.uniform(-0.5, 0.5));
         const std::optional<Contact> c = boxBox(a, b);
         const double tol = kRounding * scaleOf(a, b);
         ASSERT_TRUE(c) << "no contact, but b stands " << depth << " m deep on a's face" << pairText(a, b);
-        ASSERT_TRUE(normalIs(*c, axis(a, k), tol)) << " (a's face normal towards b)" << pairText(a, b);
+        ASSERT_TRUE(normalIs(*c, side * axis(a, k), tol)) << " (a's face normal towards b)" << pairText(a, b);
         ASSERT_NEAR(c->depth, depth, tol) << "depth" << pairText(a, b);
     }
 }
@@ -351,7 +363,7 @@ GRADED_TEST(Worksheet5, BoxBoxStackPoints, 3,
         halfB[quarter ? u : v] = rnd.uniform(0.3, 1.0) * h[v];
         const double du = i % 2 == 0 ? rnd.uniform(-0.5, 0.5) : 0.0, dv = i % 2 == 0 ? rnd.uniform(-0.5, 0.5) : 0.0;
         const double depth = rnd.uniform(0.001, 0.1) * std::min(h[k], halfB[k]);
-        const Body b = standingOn(a, k, halfB, depth, quarter ? M_PI / 2 : 0.0, du, dv);
+        const Body b = standingOn(a, k, 1.0, halfB, depth, quarter ? M_PI / 2 : 0.0, du, dv);
         // The overlap of the two faces, in a's face coordinates (m).
         const double bu = quarter ? halfB[v] : halfB[u], bv = quarter ? halfB[u] : halfB[v];
         const double uLo = std::max(-h[u], du * h[u] - bu), uHi = std::min(h[u], du * h[u] + bu);
@@ -469,10 +481,16 @@ GRADED_TEST(Worksheet5, BoxBoxApartOrTouching, 2,
         const Body a = randomBox(rnd, "a");
         const int k = i % 3;
         const Vec3 halfB(rnd.uniform(0.2, 2.0), rnd.uniform(0.2, 2.0), rnd.uniform(0.2, 2.0));
-        const Body b = standingOn(a, k, halfB, -rnd.uniform(0.001, 0.5), rnd.uniform(0.0, 2.0 * M_PI),
-                                  rnd.uniform(-0.5, 0.5), rnd.uniform(-0.5, 0.5));
+        const bool apart = i % 4 != 0;  // every fourth b stands a little into a: that one must touch
+        const double depth = apart ? -rnd.uniform(0.001, 0.5) : rnd.uniform(0.001, 0.1) * std::min(a.halfExtents[k], halfB[k]);
+        const Body b = standingOn(a, k, 1.0, halfB, depth, rnd.uniform(0.0, 2.0 * M_PI), rnd.uniform(-0.5, 0.5),
+                                  rnd.uniform(-0.5, 0.5));
         const std::optional<Contact> c = boxBox(a, b);
-        ASSERT_FALSE(c) << "b floats above a's face, yet: " << str(c) << pairText(a, b);
+        if (apart) {
+            ASSERT_FALSE(c) << "b floats above a's face, yet: " << str(c) << pairText(a, b);
+        } else {
+            ASSERT_TRUE(c) << "b stands " << depth << " m deep on a's face, but there is no contact" << pairText(a, b);
+        }
     }
     // Exactly touching, in numbers exact in binary: face on face, edge on edge (unturned boxes), and
     // a box turned half a turn about y (its axes exact) face to face.
@@ -491,9 +509,14 @@ GRADED_TEST(Worksheet5, BoxBoxSeparatedAlongEdges, 2,
             "they would count as touching.") {
     Random rnd(526);
     for (int i = 0; i < 300; ++i) {
-        const Crossing x = crossingEdges(rnd, rnd.uniform(0.001, 0.1));
+        const bool apart = i % 4 != 0;  // every fourth pair crosses a little into each other: that one touches
+        const Crossing x = crossingEdges(rnd, apart ? rnd.uniform(0.001, 0.1) : -rnd.uniform(0.001, 0.1));
         const std::optional<Contact> c = boxBox(x.a, x.b);
-        ASSERT_FALSE(c) << "the edges cross with a gap between them, yet: " << str(c) << pairText(x.a, x.b);
+        if (apart) {
+            ASSERT_FALSE(c) << "the edges cross with a gap between them, yet: " << str(c) << pairText(x.a, x.b);
+        } else {
+            ASSERT_TRUE(c) << "the edges cross into each other, but there is no contact" << pairText(x.a, x.b);
+        }
     }
 }
 
