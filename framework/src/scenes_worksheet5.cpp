@@ -24,30 +24,30 @@ void fallingBoxes(PhysicsEngine& e) {
               .at({0.8, 4.0, 0.0})
               .rotated(turn(0.5, Vec3::UnitX()) * turn(0.4, Vec3::UnitZ()))
               .bouncy(0.4));
-    e.add(box("target", {0.4, 0.4, 0.4}, 2.0).at({2.6, 0.4, 0.0}).bouncy(0.4));
-    e.add(sphere("ball", 0.25, 1.0).at({5.5, 0.6, 0.0}).moving({-3.0, 3.5, 0.0}).bouncy(0.6));
+    e.add(box("target", {0.4, 0.4, 0.4}, 2.0).at({1.5, 0.4, 2.0}).bouncy(0.4));
+    e.add(sphere("ball", 0.25, 1.0).at({4.5, 0.6, 2.0}).moving({-3.0, 3.5, 0.0}).bouncy(0.6));
 }
 
-// A stack of five boxes, each turned a little against the one below, and beside it a wall of
-// twelve boxes that a heavy ball rolls into.
+// A stack of five boxes, each turned a little against the one below, and in front of it a wall
+// of twelve boxes that a heavy ball slides into and through.
 void stackAndWall(PhysicsEngine& e) {
     e.add(plane("floor", {0.0, 1.0, 0.0}));
     const Vec3 half(0.5, 0.25, 0.4);
     for (int k = 0; k < 5; ++k) {
         e.add(box("stack" + std::to_string(k + 1), half, 1.0)
-                  .at({-3.0, half.y() * (2 * k + 1), 0.0})
+                  .at({-2.0, half.y() * (2 * k + 1), -1.0})
                   .rotated(turn(0.15 * k, Vec3::UnitY()))
                   .bouncy(0.0));
     }
-    const Vec3 brick(0.2, 0.25, 0.4);
+    const Vec3 brick(0.4, 0.25, 0.2);
     for (int row = 0; row < 4; ++row) {
         for (int col = 0; col < 3; ++col) {
             e.add(box("brick" + std::to_string(3 * row + col + 1), brick, 0.5)
-                      .at({1.0, brick.y() * (2 * row + 1), brick.z() * 2.0 * (col - 1)})
+                      .at({1.0 + brick.x() * 2.0 * (col - 1), brick.y() * (2 * row + 1), -1.0})
                       .bouncy(0.2));
         }
     }
-    e.add(sphere("ball", 0.35, 8.0).at({4.0, 0.35, 0.1}).moving({-4.0, 0.0, 0.0}).bouncy(0.2));
+    e.add(sphere("ball", 0.35, 4.0).at({1.1, 0.35, 3.0}).moving({0.0, 0.0, -3.0}).bouncy(0.2));
 }
 
 }  // namespace
@@ -59,7 +59,7 @@ void addWorksheet5Scenes(SceneRegistry& r) {
            kImpulses, kDefaultTimeStep, fallingBoxes, Integrator::SemiImplicitEuler, Vec3(0.8, 1.5, 0.0), 9.0, 4.0});
     // Without friction (worksheet 7) the bricks the ball knocks over slide on for ever: the view
     // frames the stack, the wall and the first 3 s.
-    r.add({"stack-and-wall", "F8", "A stack of five boxes stands; a heavy ball rolls into a wall of boxes.", 5,
+    r.add({"stack-and-wall", "F8", "A stack of five boxes stands; a heavy ball slides into a wall of boxes.", 5,
            kImpulses, kDefaultTimeStep, stackAndWall, Integrator::SemiImplicitEuler, Vec3(0.0, 1.0, 0.0), 10.0, 3.0});
 }
 
