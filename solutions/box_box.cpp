@@ -104,9 +104,9 @@ Contact faceContact(const OrientedBox& reference, const OrientedBox& incident, i
     }
     Contact c;
     if (count == 0) {  // rounding at a grazing contact: the incident face's centre stands for it
-        Vec3 centre = Vec3::Zero();
-        for (int i = 0; i < face.count; ++i) centre += face.corners[i] / face.count;
-        c.points[0] = face.count > 0 ? centre : Vec3(incident.centre);
+        Vec3 middle = Vec3::Zero();
+        for (int i = 0; i < face.count; ++i) middle += face.corners[i] / face.count;
+        c.points[0] = face.count > 0 ? middle : Vec3(incident.centre);
         c.pointCount = 1;
         return c;
     }
@@ -145,8 +145,8 @@ Contact faceContact(const OrientedBox& reference, const OrientedBox& incident, i
             if (spread(i) > spread(pick[3])) pick[3] = i;
         }
     }
-    for (int k = 0; k < 4; ++k) {
-        if (std::find(pick.begin(), pick.begin() + k, pick[k]) == pick.begin() + k) c.points[c.pointCount++] = behind[pick[k]];
+    for (int p = 0; p < 4; ++p) {  // each once
+        if (std::find(pick.begin(), pick.begin() + p, pick[p]) == pick.begin() + p) c.points[c.pointCount++] = behind[pick[p]];
     }
     return c;
 }
@@ -155,9 +155,9 @@ Contact faceContact(const OrientedBox& reference, const OrientedBox& incident, i
 // halfway between the closest points of the edge of a nearest b and the edge of b nearest a.
 Vec3 edgePoint(const OrientedBox& a, int i, const OrientedBox& b, int j, const Vec3& normal) {
     Vec3 pa = a.centre, pb = b.centre;
-    for (int k = 0; k < 3; ++k) {
-        if (k != i) pa += sign(normal.dot(a.axes.col(k))) * a.half[k] * a.axes.col(k);
-        if (k != j) pb -= sign(normal.dot(b.axes.col(k))) * b.half[k] * b.axes.col(k);
+    for (int m = 0; m < 3; ++m) {  // the other two axes of each
+        if (m != i) pa += sign(normal.dot(a.axes.col(m))) * a.half[m] * a.axes.col(m);
+        if (m != j) pb -= sign(normal.dot(b.axes.col(m))) * b.half[m] * b.axes.col(m);
     }
     const Vec3 da = a.axes.col(i), db = b.axes.col(j), r = pa - pb;
     const double cosine = da.dot(db), c = da.dot(r), f = db.dot(r);

@@ -31,10 +31,10 @@ std::optional<Contact> boxPlane([[maybe_unused]] const Body& box, [[maybe_unused
     const Mat3 axes = box.orientation.toRotationMatrix();
     // The corners with their heights above the plane (m), the deepest first.
     std::array<std::pair<double, Vec3>, 8> corners;
-    for (int k = 0; k < 8; ++k) {
-        const Vec3 signs(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
+    for (int j = 0; j < 8; ++j) {
+        const Vec3 signs(j & 1 ? 1.0 : -1.0, j & 2 ? 1.0 : -1.0, j & 4 ? 1.0 : -1.0);  // of corner j
         const Vec3 x = box.position + axes * signs.cwiseProduct(box.halfExtents);
-        corners[k] = {n.dot(x - plane.position), x};
+        corners[j] = {n.dot(x - plane.position), x};
     }
     std::sort(corners.begin(), corners.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
     const int behind = static_cast<int>(

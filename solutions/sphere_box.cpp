@@ -27,8 +27,8 @@ std::optional<Contact> sphereBox([[maybe_unused]] const Body& sphere, [[maybe_un
     const Mat3 axes = box.orientation.toRotationMatrix();  // columns: the box's axes in the world frame
     const Vec3 local = axes.transpose() * (sphere.position - box.position);  // centre in the box frame (m)
     const Vec3 closest = local.cwiseMax(-box.halfExtents).cwiseMin(box.halfExtents);
-    Vec3 normal;  // world frame, from the sphere into the box
-    double depth;
+    Vec3 normal;   // world frame, from the sphere into the box
+    double depth;  // m
     if (closest != local) {  // the centre is outside: the closest point is on the surface
         const Vec3 towardsBox = axes * (closest - local);
         const double distance = towardsBox.norm();

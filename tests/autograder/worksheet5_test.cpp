@@ -313,7 +313,7 @@ GRADED_TEST(Worksheet5, BoxPlaneApartOrTouching, 2,
 Body standingOn(const Body& a, int k, double side, const Vec3& halfB, double depth, double angle, double du,
                 double dv) {
     const Vec3 up = side * axis(a, k);
-    const int u = (k + 1) % 3, v = (k + 2) % 3;
+    const int u = (k + 1) % 3, v = (u + 1) % 3;
     const Quat turn(Eigen::AngleAxisd(angle, up));
     // b's axis k along a's: b is a turned about `up`.
     Body b = box("b", halfB, 1.0).rotated((turn * a.orientation).normalized());
