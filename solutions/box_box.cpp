@@ -59,7 +59,7 @@ struct Polygon {
 // The face of `box` that faces against the unit direction `outward`, corners in order around it.
 Polygon facingFace(const OrientedBox& box, const Vec3& outward) {
     const Vec3 along = box.axes.transpose() * outward;
-    int k = 0;
+    int k = 0;  // the axis closest to outward
     along.cwiseAbs().maxCoeff(&k);
     const int u = (k + 1) % 3, v = (k + 2) % 3;
     const Vec3 centre = box.centre - sign(along[k]) * box.half[k] * box.axes.col(k);

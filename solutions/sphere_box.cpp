@@ -36,7 +36,7 @@ std::optional<Contact> sphereBox([[maybe_unused]] const Body& sphere, [[maybe_un
         if (depth <= 0.0) return std::nullopt;  // apart, or touching at one point
         normal = towardsBox / distance;
     } else {  // the centre is inside: out through the nearest face
-        int k = 0;
+        int k = 0;  // the axis of the nearest face
         const Vec3 room = box.halfExtents - local.cwiseAbs();  // to the faces on the centre's side (m)
         room.minCoeff(&k);
         const double side = local[k] >= 0.0 ? 1.0 : -1.0;
