@@ -5,6 +5,11 @@
 //   BM_BroadPhase/N            sort and sweep over the heap
 //   BM_SphereSphere, BM_SpherePlane, BM_ResolveInterpenetration, BM_ApplyCollisionImpulse
 //                              one call of each contact kernel
+//   BM_SphereBox, BM_BoxPlane, BM_BoxBoxFace, BM_BoxBoxEdge, BM_BoxBoxApart
+//                              one call of each box kernel (worksheet 5): a sphere off a turned
+//                              box's edge; a box resting on a plane (four corners behind it); a box
+//                              on a box (a face contact, clipped), two crossing edges, and two
+//                              boxes apart on an edge axis (all fifteen axes tested)
 //   BM_DetectCollisions/N, BM_Interpenetration/N, BM_Impulses/N
 //                              one stage on the heap (the state is put back, untimed, before each)
 //   BM_Integration/N           integrate() on the free fall
@@ -21,7 +26,9 @@
 //                              still finite)
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <string>
+#include <utility>
 
 #include "gpl/body.h"
 #include "gpl/broadphase.h"
@@ -83,6 +90,51 @@ void BM_SpherePlane(benchmark::State& state) {
     for (auto _ : state) benchmark::DoNotOptimize(gpl::spherePlane(s, p));
 }
 BENCHMARK(BM_SpherePlane);
+
+gpl::Quat turn(double radians, const Vec3& axis) { return gpl::Quat(Eigen::AngleAxisd(radians, axis.normalized())); }
+
+void BM_SphereBox(benchmark::State& state) {
+    const gpl::Body s = gpl::sphere("s", 0.5, 1.0).at(Vec3(0.9, 0.9, 0.1));
+    const gpl::Body b = gpl::box("b", Vec3(0.5, 0.5, 0.5), 1.0).rotated(turn(0.3, Vec3(0.0, 0.0, 1.0)));
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::sphereBox(s, b));
+}
+BENCHMARK(BM_SphereBox);
+
+void BM_BoxPlane(benchmark::State& state) {
+    const gpl::Body b = gpl::box("b", Vec3(0.5, 0.25, 0.4), 1.0).at(Vec3(0.3, 0.24, 0.1));
+    const gpl::Body p = gpl::plane("p", Vec3::UnitY());
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxPlane(b, p));
+}
+BENCHMARK(BM_BoxPlane);
+
+// Two boxes: b on a's top face turned by 0.3 rad (a clipped face contact); or each turned by 45
+// degrees about another axis, their edges crossing `gap` apart (< 0: overlapping).
+std::pair<gpl::Body, gpl::Body> boxPair(bool crossing, double gap) {
+    if (!crossing) {
+        return {gpl::box("a", Vec3(1.0, 0.25, 1.0), 1.0),
+                gpl::box("b", Vec3(0.5, 0.25, 0.4), 1.0).at(Vec3(0.6, 0.49, 0.1)).rotated(turn(0.3, Vec3::UnitY()))};
+    }
+    return {gpl::box("a", Vec3(1.0, 0.5, 0.5), 1.0).rotated(turn(M_PI / 4, Vec3::UnitX())),
+            gpl::box("b", Vec3(0.5, 0.5, 1.0), 1.0).at(Vec3(0.0, std::sqrt(2.0) + gap, 0.0)).rotated(turn(M_PI / 4, Vec3::UnitZ()))};
+}
+
+void BM_BoxBoxFace(benchmark::State& state) {
+    const auto [a, b] = boxPair(false, 0.0);
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxBox(a, b));
+}
+BENCHMARK(BM_BoxBoxFace);
+
+void BM_BoxBoxEdge(benchmark::State& state) {
+    const auto [a, b] = boxPair(true, -0.01);
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxBox(a, b));
+}
+BENCHMARK(BM_BoxBoxEdge);
+
+void BM_BoxBoxApart(benchmark::State& state) {
+    const auto [a, b] = boxPair(true, 0.01);
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxBox(a, b));
+}
+BENCHMARK(BM_BoxBoxApart);
 
 void BM_ResolveInterpenetration(benchmark::State& state) {
     gpl::Body a = gpl::sphere("a", 0.5, 1.0);

@@ -372,11 +372,16 @@ Vec3 PhysicsEngine::linearMomentum() const {
 }
 
 bool PhysicsEngine::allFinite() const {
-    // x - x is 0 for a finite x and NaN for an infinite one or NaN, and NaN survives the sum: one
-    // pass without a branch per number (step() calls this every step).
-    double sum = 0.0;
-    for (const Body& b : bodies_) sum += (b.position - b.position).sum() + (b.velocity - b.velocity).sum();
-    return sum == 0.0;
+    // One pass without a branch per number (step() calls this every step): a NaN or an infinity
+    // anywhere makes the sum of every position and velocity NaN or infinite. Only when it is not
+    // finite, body by body, since finite numbers can also add up to an overflow.
+    Vec3 sum = Vec3::Zero();
+    for (const Body& b : bodies_) sum += b.position + b.velocity;
+    if (isFinite(sum)) return true;
+    for (const Body& b : bodies_) {
+        if (!isFinite(b.position) || !isFinite(b.velocity)) return false;
+    }
+    return true;
 }
 
 }  // namespace gpl

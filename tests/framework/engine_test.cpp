@@ -93,6 +93,23 @@ TEST(Engine, StepAdvancesTimeAndCatchesNonFiniteState) {
     }
 }
 
+TEST(Engine, FiniteBodiesWhoseSumOverflowsAreFinite) {
+    // allFinite() adds every position and velocity up first; numbers near the largest double add
+    // up to infinity although each is finite, and that must not stop the simulation.
+    PhysicsEngine e;
+    e.setRequiredStages({});
+    const double huge = 0.9 * std::numeric_limits<double>::max();
+    e.add(sphere("far", 0.5, 1.0).at(Vec3(huge, 0.0, 0.0)));
+    e.add(sphere("farther", 0.5, 1.0).at(Vec3(huge, 0.0, 0.0)).moving(Vec3(huge, 0.0, 0.0)));
+    EXPECT_TRUE(e.allFinite());
+    EXPECT_NO_THROW(e.step());
+    e.bodies()[1].position.y() = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(e.allFinite());
+    e.bodies()[1].position.y() = 0.0;
+    e.bodies()[0].velocity.z() = -std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(e.allFinite());
+}
+
 TEST(Engine, RemovingABodyTakesItsSpringsAndConstraintsAlong) {
     PhysicsEngine e;
     e.add(box("anchor", {0.1, 0.1, 0.1}, 1.0).makeStatic());

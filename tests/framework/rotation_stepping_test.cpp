@@ -3,6 +3,8 @@
 // and a state that is no longer finite names integrateRotation().
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -52,6 +54,22 @@ TEST(RotationEngine, SpheresBounceAlikeWithOrWithoutRotation) {
         // r x n of a sphere's contact is zero up to the rounding of the contact point (~1e-16 m).
         EXPECT_LE(runs[1][i].angularVelocity.norm(), 1e-12) << runs[0][i].name << " started to turn";
     }
+}
+
+TEST(RotationEngine, BoxDroppedOnACornerStartsTurning) {
+    PhysicsEngine e;
+    load(e, scenes().find("corner-drop"));
+    const Body start = e.body("box");
+    double turnedBy = 0.0;  // rad, the most the orientation has turned away from the start
+    for (int i = 0; i < 300; ++i) {
+        e.step();
+        const Body& b = e.body("box");
+        turnedBy = std::max(turnedBy, b.orientation.angularDistance(start.orientation));
+        // Every impulse of a floor without friction is vertical: the horizontal momentum stays zero.
+        ASSERT_LE(std::hypot(b.velocity.x(), b.velocity.z()), 1e-9) << "step " << i + 1;
+    }
+    EXPECT_GT(turnedBy, 0.3) << "the corner's impulse did not turn the box";
+    EXPECT_LT(e.body("box").position.y(), 0.45) << "the box did not come down onto the floor";
 }
 
 TEST(RotationEngine, AngularMomentumAboutTheOrigin) {

@@ -221,10 +221,10 @@ class Window(unittest.TestCase):
         self.assertLess(states[1]["positions"]["e=0.9"][1], 0.35, "without impulses every landing is plastic")
 
     def test_the_contact_scenes_show_moving_bodies_and_the_ghost_agrees(self):
-        # Worksheets 3 and 4, one after the other by key, with the reference ghost: in each, the
+        # Worksheets 3 to 5, one after the other by key, with the reference ghost: in each, the
         # picture changes where the scene is drawn (left of the panel, below the overlay), the
         # bodies move, and the reference solution agrees with itself.
-        keys = ["9", "F1", "F2", "F3", "F4", "F5", "F6"]
+        keys = ["9", "F1", "F2", "F3", "F4", "F5", "F6", "F7", "F8"]
         script = "".join(f"key {k}; wait 2; shot {self.tmp / k}-a.png; wait 24; shot {self.tmp / k}-b.png; wait 1; dump; "
                          for k in keys)
         rc, states, log = viewer(SOLUTIONS, "--ghost", "--script", script + "quit", timeout=300)

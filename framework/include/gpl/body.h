@@ -13,10 +13,11 @@ enum class Shape { Sphere, Box, Plane };
 /// Name of a shape as shown to people ("sphere", "box", "plane").
 const char* shapeName(Shape shape);
 
-struct Body {
+struct alignas(64) Body {
     // The fields are grouped by meaning; the groups are ordered by how often a time step reads them,
-    // so that what the particle and sphere stages read (shape, radius, position, velocity,
-    // acceleration, masses, material) shares the body's first two cache lines.
+    // so that what integration and the sphere stages read (shape, radius, position, velocity,
+    // acceleration, masses, angular velocity) fills the body's first two cache lines, which the
+    // alignment to 64 bytes keeps apart from the neighbours'.
     Shape shape = Shape::Sphere;
     double radius = 0.0;  ///< sphere radius (m)
 
@@ -31,13 +32,15 @@ struct Body {
     double mass = 1.0;     ///< kg
     double invMass = 1.0;  ///< 1/kg; 0 for static bodies
 
+    // Read by kineticEnergy() with the velocity (rotation's other fields follow the material).
+    Vec3 angularVelocity = Vec3::Zero();  ///< angular velocity, world frame (rad/s)
+
     // Material.
     double restitution = 0.5;  ///< coefficient of restitution, 0 (plastic) .. 1 (elastic)
     double friction = 0.5;     ///< Coulomb friction coefficient (dimensionless)
 
     // Rotation: pose, velocity and mass properties.
     Quat orientation = Quat::Identity();  ///< rotation from body to world frame (unit quaternion)
-    Vec3 angularVelocity = Vec3::Zero();  ///< angular velocity, world frame (rad/s)
     Mat3 inertia = Mat3::Identity();      ///< inertia tensor about the centre of mass, body frame (kg m^2)
     Mat3 invInertia = Mat3::Identity();   ///< its inverse (1/(kg m^2)); zero for static bodies
 

@@ -14,7 +14,7 @@ enum class Stage {
     Springs,               ///< forces: Hooke springs (optionally damped) add theirs (worksheet 2)
     Integration,           ///< advance velocities and positions by one time step (worksheets 1, 2)
     Rotation,              ///< advance orientations and angular velocities, integrateRotation() (worksheet 6)
-    CollisionDetection,    ///< find the contacts: broad phase, then sphereSphere(), spherePlane() (worksheet 3)
+    CollisionDetection,    ///< find the contacts: broad phase, then the kernels of gpl/collision.h (worksheets 3, 5)
     Ropes,                 ///< taut ropes become contacts that pull, ropeContact() (worksheet 4)
     Interpenetration,      ///< move overlapping bodies apart, resolveInterpenetration() (worksheet 3)
     CollisionImpulses,     ///< change velocities at the contacts, applyCollisionImpulse() (worksheet 4)
