@@ -40,7 +40,7 @@ void addWorksheet6Scenes(SceneRegistry& r) {
     // Without friction (worksheet 7) the box slides and spins on for ever: the view frames the
     // landing and the first 4 s.
     r.add({"corner-drop", "F10", "A box dropped on a corner: the impulse at the corner sets it turning.", 6, kLanding,
-           kDefaultTimeStep, cornerDrop, Integrator::SemiImplicitEuler, Vec3(0.0, 0.8, 0.0), 5.0, 4.0});
+           kDefaultTimeStep, cornerDrop, Integrator::SemiImplicitEuler, Vec3(0.0, 1.1, 0.0), 5.5, 4.0});
 }
 
 }  // namespace gpl
