@@ -19,6 +19,9 @@ void PhysicsEngine::simulationTimestep() {
     // (integrator() for semi-implicit Euler).
     if (stageActive(Stage::Integration)) integrate();
 
+    // Rotate: advance orientations and angular velocities by one time step (worksheet 6).
+    if (stageActive(Stage::Rotation)) rotate();
+
     // Contacts: pairs that overlap, from the broad phase and the collision kernels (worksheet 3).
     if (stageActive(Stage::CollisionDetection)) detectCollisions();
 

@@ -5,25 +5,37 @@
 //   BM_BroadPhase/N            sort and sweep over the heap
 //   BM_SphereSphere, BM_SpherePlane, BM_ResolveInterpenetration, BM_ApplyCollisionImpulse
 //                              one call of each contact kernel
+//   BM_SphereBox, BM_BoxPlane, BM_BoxBoxFace, BM_BoxBoxEdge, BM_BoxBoxApart
+//                              one call of each box kernel (worksheet 5): a sphere off a turned
+//                              box's edge; a box resting on a plane (four corners behind it); a box
+//                              on a box (a face contact, clipped), two crossing edges, and two
+//                              boxes apart on an edge axis (all fifteen axes tested)
 //   BM_DetectCollisions/N, BM_Interpenetration/N, BM_Impulses/N
 //                              one stage on the heap (the state is put back, untimed, before each)
 //   BM_Integration/N           integrate() on the free fall
+//   BM_IntegrateRotation, BM_ApplyContactImpulse
+//                              one call of each rotation kernel (a tumbling box; a box on four points)
+//   BM_Rotation/N              the rotation stage, rotate(), on N tumbling boxes
 //   BM_StepFreeFall/N, BM_StepFreeFallIdleStages/N and BM_GravityAndIntegrationOnly/N
 //                              a whole step of a scene that requires gravity and integration; the
-//                              same scene holding springs, distance constraints, ropes and a
-//                              container whose stages it does not require (equal times: the
-//                              stages a scene does not require cost nothing, their data included);
-//                              and the two stages called directly (the rest of the first is the
-//                              step's own check that every body is still finite)
+//                              same scene holding springs, distance constraints, ropes, a container
+//                              and a torque on every body, whose stages (rotation among them) it does
+//                              not require (equal times: the stages a scene does not require cost
+//                              nothing, their data included); and the two stages called directly
+//                              (the rest of the first is the step's own check that every body is
+//                              still finite)
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <string>
+#include <utility>
 
 #include "gpl/body.h"
 #include "gpl/broadphase.h"
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"
+#include "gpl/rotation.h"
 #include "heap.h"
 
 namespace {
@@ -79,6 +91,51 @@ void BM_SpherePlane(benchmark::State& state) {
 }
 BENCHMARK(BM_SpherePlane);
 
+gpl::Quat turn(double radians, const Vec3& axis) { return gpl::Quat(Eigen::AngleAxisd(radians, axis.normalized())); }
+
+void BM_SphereBox(benchmark::State& state) {
+    const gpl::Body s = gpl::sphere("s", 0.5, 1.0).at(Vec3(0.9, 0.9, 0.1));
+    const gpl::Body b = gpl::box("b", Vec3(0.5, 0.5, 0.5), 1.0).rotated(turn(0.3, Vec3(0.0, 0.0, 1.0)));
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::sphereBox(s, b));
+}
+BENCHMARK(BM_SphereBox);
+
+void BM_BoxPlane(benchmark::State& state) {
+    const gpl::Body b = gpl::box("b", Vec3(0.5, 0.25, 0.4), 1.0).at(Vec3(0.3, 0.24, 0.1));
+    const gpl::Body p = gpl::plane("p", Vec3::UnitY());
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxPlane(b, p));
+}
+BENCHMARK(BM_BoxPlane);
+
+// Two boxes: b on a's top face turned by 0.3 rad (a clipped face contact); or each turned by 45
+// degrees about another axis, their edges crossing `gap` apart (< 0: overlapping).
+std::pair<gpl::Body, gpl::Body> boxPair(bool crossing, double gap) {
+    if (!crossing) {
+        return {gpl::box("a", Vec3(1.0, 0.25, 1.0), 1.0),
+                gpl::box("b", Vec3(0.5, 0.25, 0.4), 1.0).at(Vec3(0.6, 0.49, 0.1)).rotated(turn(0.3, Vec3::UnitY()))};
+    }
+    return {gpl::box("a", Vec3(1.0, 0.5, 0.5), 1.0).rotated(turn(M_PI / 4, Vec3::UnitX())),
+            gpl::box("b", Vec3(0.5, 0.5, 1.0), 1.0).at(Vec3(0.0, std::sqrt(2.0) + gap, 0.0)).rotated(turn(M_PI / 4, Vec3::UnitZ()))};
+}
+
+void BM_BoxBoxFace(benchmark::State& state) {
+    const auto [a, b] = boxPair(false, 0.0);
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxBox(a, b));
+}
+BENCHMARK(BM_BoxBoxFace);
+
+void BM_BoxBoxEdge(benchmark::State& state) {
+    const auto [a, b] = boxPair(true, -0.01);
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxBox(a, b));
+}
+BENCHMARK(BM_BoxBoxEdge);
+
+void BM_BoxBoxApart(benchmark::State& state) {
+    const auto [a, b] = boxPair(true, 0.01);
+    for (auto _ : state) benchmark::DoNotOptimize(gpl::boxBox(a, b));
+}
+BENCHMARK(BM_BoxBoxApart);
+
 void BM_ResolveInterpenetration(benchmark::State& state) {
     gpl::Body a = gpl::sphere("a", 0.5, 1.0);
     gpl::Body b = gpl::sphere("b", 0.5, 2.0).at(Vec3(0.0, 0.9, 0.0));
@@ -130,16 +187,20 @@ BENCHMARK(BM_DetectCollisions)->RangeMultiplier(4)->Range(64, 16384)->Complexity
 
 void BM_Interpenetration(benchmark::State& state) {
     heapStage(state, [](PhysicsEngine& e, bool timed) {
-        if (timed) e.resolveInterpenetrations();
-        else e.detectCollisions();
+        if (timed)
+            e.resolveInterpenetrations();
+        else
+            e.detectCollisions();
     });
 }
 BENCHMARK(BM_Interpenetration)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
 
 void BM_Impulses(benchmark::State& state) {
     heapStage(state, [](PhysicsEngine& e, bool timed) {
-        if (timed) e.applyCollisionImpulses();
-        else e.detectCollisions();
+        if (timed)
+            e.applyCollisionImpulses();
+        else
+            e.detectCollisions();
     });
 }
 BENCHMARK(BM_Impulses)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
@@ -152,6 +213,51 @@ void BM_Integration(benchmark::State& state) {
     state.SetComplexityN(state.range(0));
 }
 BENCHMARK(BM_Integration)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+// A box turning about no axis of its own (its angular velocity changes every step).
+gpl::Body tumblingBox(const std::string& name) {
+    return gpl::box(name, Vec3(0.15, 0.4, 0.8), 2.0)
+        .rotated(gpl::Quat(Eigen::AngleAxisd(0.7, Vec3(1.0, 2.0, 3.0).normalized())))
+        .spinning(Vec3(0.5, 3.0, 0.5));
+}
+
+void BM_IntegrateRotation(benchmark::State& state) {
+    gpl::Body b = tumblingBox("box");
+    for (auto _ : state) {
+        gpl::integrateRotation(b, gpl::bench::kTimeStep);
+        benchmark::DoNotOptimize(b.orientation);
+        benchmark::DoNotOptimize(b.angularVelocity);
+    }
+}
+BENCHMARK(BM_IntegrateRotation);
+
+void BM_ApplyContactImpulse(benchmark::State& state) {
+    const gpl::Body start = tumblingBox("box").at(Vec3(0.0, 0.3, 0.0)).moving(Vec3(0.0, -1.0, 0.0));
+    gpl::Body floor = gpl::plane("floor", Vec3::UnitY());
+    gpl::Contact c;
+    c.normal = -Vec3::UnitY();  // from the box into the floor
+    c.pointCount = 4;
+    c.points = {Vec3(-0.15, 0.0, -0.4), Vec3(0.15, 0.0, -0.4), Vec3(0.15, 0.0, 0.4), Vec3(-0.15, 0.0, 0.4)};
+    gpl::Body b = start;
+    for (auto _ : state) {
+        b.velocity = start.velocity;  // approaching every time
+        b.angularVelocity = start.angularVelocity;
+        gpl::applyContactImpulse(c, b, floor);
+        benchmark::DoNotOptimize(b.velocity);
+        benchmark::DoNotOptimize(b.angularVelocity);
+    }
+}
+BENCHMARK(BM_ApplyContactImpulse);
+
+void BM_Rotation(benchmark::State& state) {
+    PhysicsEngine e;
+    e.setRequiredStages({Stage::Integration, Stage::Rotation});
+    e.setTimeStep(gpl::bench::kTimeStep);
+    for (int64_t i = 0; i < state.range(0); ++i) e.add(tumblingBox("b" + std::to_string(i)));
+    for (auto _ : state) e.rotate();
+    state.SetComplexityN(state.range(0));
+}
+BENCHMARK(BM_Rotation)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
 
 void BM_StepFreeFall(benchmark::State& state) {
     PhysicsEngine e;
@@ -173,6 +279,9 @@ void BM_StepFreeFallIdleStages(benchmark::State& state) {
         e.addRope(a, b, 2.0);
     }
     e.setContainer(Vec3(0.0, 1e6, 0.0), 1e9);
+    // A torque on every body, for the rotation stage (worksheet 6); the particles do not turn, as
+    // in any scene of particles or spheres.
+    for (gpl::Body& b : e.bodies()) b.torque = Vec3(0.0, 0.0, 1.0);
     for (auto _ : state) e.step();
     state.SetComplexityN(state.range(0));
 }

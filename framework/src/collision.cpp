@@ -10,19 +10,32 @@ namespace gpl {
 
 namespace {
 
-// The kernel for the shapes of a and b (a sphere comes first against a plane); none for two static
-// bodies and for shapes without a kernel yet. Each return hands the kernel's answer on uncopied.
+// The kernel for the shapes of a and b, which come in the order sphere, box, plane; none for two
+// static bodies and for two planes. Each return hands the kernel's answer on uncopied.
 std::optional<Contact> kernelContact(const Body& a, const Body& b) {
     if (a.isStatic() && b.isStatic()) return std::nullopt;
-    if (a.shape == Shape::Sphere && b.shape == Shape::Sphere) return sphereSphere(a, b);
-    if (a.shape == Shape::Sphere && b.shape == Shape::Plane) return spherePlane(a, b);
+    switch (a.shape) {
+        case Shape::Sphere:
+            if (b.shape == Shape::Sphere) return sphereSphere(a, b);
+            if (b.shape == Shape::Plane) return spherePlane(a, b);
+            return sphereBox(a, b);
+        case Shape::Box:
+            if (b.shape == Shape::Box) return boxBox(a, b);
+            if (b.shape == Shape::Plane) return boxPlane(a, b);
+            return std::nullopt;
+        case Shape::Plane:
+            return std::nullopt;
+    }
     return std::nullopt;
 }
+
+// Kernels take their shapes in this order.
+int shapeOrder(Shape s) { return s == Shape::Sphere ? 0 : s == Shape::Box ? 1 : 2; }
 
 }  // namespace
 
 std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j) {
-    if (bodies[i].shape == Shape::Plane) std::swap(i, j);  // the sphere first against a plane
+    if (shapeOrder(bodies[i].shape) > shapeOrder(bodies[j].shape)) std::swap(i, j);  // sphere, box, plane
     const Body& p = bodies[i];
     const Body& q = bodies[j];
     std::optional<Contact> c = kernelContact(p, q);

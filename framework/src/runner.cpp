@@ -38,6 +38,7 @@ void writeCsvHeader(std::ostream& csv) { csv << "step,time,body,x,y,z,vx,vy,vz,k
 RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
     RunSummary s;
     s.initialEnergy = engine.totalEnergy();
+    s.initialAngularMomentum = engine.angularMomentum();
     if (csv) {
         *csv << std::setprecision(17);
         writeRows(*csv, engine);
@@ -60,6 +61,7 @@ RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
     }
     s.simulatedTime = engine.time() - startTime;
     s.finalEnergy = engine.totalEnergy();
+    s.finalAngularMomentum = engine.angularMomentum();
     for (const Body& b : engine.bodies()) s.maxSpeed = std::max(s.maxSpeed, b.velocity.norm());
     return s;
 }
@@ -82,6 +84,14 @@ std::string describe(const RunSummary& s, const PhysicsEngine& e) {
         out << "largest energy increase in one step: " << s.maxEnergyIncrease << " J\n";
     }
     out << "largest speed at the end: " << s.maxSpeed << " m/s\n";
+    if (e.requiredStages().contains(Stage::Rotation)) {
+        const Vec3& l0 = s.initialAngularMomentum;
+        const Vec3& l1 = s.finalAngularMomentum;
+        out << "angular momentum about the origin: (" << l0.x() << ", " << l0.y() << ", " << l0.z() << ") -> ("
+            << l1.x() << ", " << l1.y() << ", " << l1.z() << ") kg m^2/s (changed by " << (l1 - l0).norm();
+        if (l0.norm() > 0.0) out << ", " << 100.0 * (l1 - l0).norm() / l0.norm() << " %";
+        out << ")\n";
+    }
     if (e.requiredStages().contains(Stage::CollisionDetection) || e.requiredStages().contains(Stage::Ropes)) {
         out << "contacts: at most " << s.maxContacts << " in one step, deepest " << s.deepestContact
             << " m (found before resolution)\n";

@@ -53,6 +53,8 @@ const SceneRegistry& scenes() {
         addWorksheet2Scenes(r);
         addWorksheet3Scenes(r);
         addWorksheet4Scenes(r);
+        addWorksheet5Scenes(r);
+        addWorksheet6Scenes(r);
         addStudentScenes(r);
         return r;
     }();

@@ -10,6 +10,8 @@ const char* stageName(Stage stage) {
             return "springs";
         case Stage::Integration:
             return "integrate";
+        case Stage::Rotation:
+            return "rotate";
         case Stage::CollisionDetection:
             return "collisions";
         case Stage::Ropes:

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "app_impl.h"
+#include "gpl/rotation.h"
 
 namespace gpl::viewer {
 namespace {
@@ -167,6 +168,10 @@ void App::drawPanel() {
             ImGui::Text("velocity %s m/s", vec(b->velocity).c_str());
             ImGui::Text("angular velocity %s rad/s", vec(b->angularVelocity).c_str());
             ImGui::Text("kinetic %.4g J, potential %.4g J", kineticEnergy(*b), potentialEnergy(*b, e.gravity()));
+            if (e.stageActive(Stage::Rotation)) {
+                ImGui::Text("angular momentum %s kg m^2/s", vec(angularMomentum(*b)).c_str());
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("about the origin: x cross m v + R I R^T omega");
+            }
             float restitution = static_cast<float>(b->restitution);
             if (ImGui::SliderFloat("restitution", &restitution, 0.0f, 1.0f, "%.2f")) {
                 session_.setRestitution(*session_.selected(), restitution);
@@ -195,6 +200,10 @@ void App::drawPanel() {
         const double drift = e.totalEnergy() - s.initialTotal;
         ImGui::Text("drift since reset: %+.4g J (%+.3g %%)", drift,
                     s.initialTotal != 0.0 ? 100.0 * drift / std::abs(s.initialTotal) : 0.0);
+        if (e.stageActive(Stage::Rotation)) {
+            ImGui::Text("angular momentum %s kg m^2/s", vec(e.angularMomentum()).c_str());
+            if (ImGui::IsItemHovered()) ImGui::SetTooltip("of every body, about the origin");
+        }
     }
 
     if (ImGui::CollapsingHeader("Reference ghost", ImGuiTreeNodeFlags_DefaultOpen)) {

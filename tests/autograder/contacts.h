@@ -1,4 +1,4 @@
-// What the worksheet-3 and 4 autograders share: random configurations from a fixed seed, the
+// What the worksheet-3, 4 and 5 autograders share: random configurations from a fixed seed, the
 // geometry the tests compare with (closed forms, written here once), messages that show vectors,
 // and the fixture that names hooks still open.
 #pragma once
@@ -34,6 +34,11 @@ inline std::string str(const Body& b) {
     out << b.name << " at " << str(b.position);
     if (b.shape == Shape::Sphere) out << ", radius " << b.radius;
     if (b.shape == Shape::Plane) out << ", world normal " << str(b.orientation * b.normal);
+    if (b.shape == Shape::Box) {
+        const Quat& q = b.orientation;
+        out << ", half extents " << str(b.halfExtents) << ", orientation (w, x, y, z) (" << q.w() << ", " << q.x()
+            << ", " << q.y() << ", " << q.z() << ")";
+    }
     if (b.isStatic()) {
         out << ", static";
     } else {
@@ -79,6 +84,23 @@ inline Vec3 worldNormal(const Body& plane) { return (plane.orientation * plane.n
 
 /// Signed distance (m) of a point in front of a plane: > 0 on the free side, < 0 inside the solid.
 inline double heightAbove(const Body& plane, const Vec3& x) { return worldNormal(plane).dot(x - plane.position); }
+
+/// The eight corners of a box (m, world frame).
+inline std::vector<Vec3> corners(const Body& box) {
+    std::vector<Vec3> out;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 signs(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
+        out.push_back(box.position + box.orientation * signs.cwiseProduct(box.halfExtents));
+    }
+    return out;
+}
+
+/// The body turned by R about the origin and then moved by t: a rigid motion of the whole scene.
+inline Body carried(Body b, const Quat& R, const Vec3& t) {
+    b.position = R * b.position + t;
+    b.orientation = (R * b.orientation).normalized();
+    return b;
+}
 
 /// How far two spheres overlap (m): > 0 overlapping, 0 touching, < 0 apart.
 inline double overlap(const Body& a, const Body& b) { return a.radius + b.radius - (b.position - a.position).norm(); }

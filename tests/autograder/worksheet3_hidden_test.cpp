@@ -12,17 +12,11 @@
 namespace gpl {
 namespace {
 
+using checks::carried;
 using checks::Random;
 using checks::str;
 
 class Worksheet3Hidden : public checks::ContactsTest {};
-
-// The body turned by R about the origin and then moved by t: a rigid motion of the whole scene.
-Body carried(Body b, const Quat& R, const Vec3& t) {
-    b.position = R * b.position + t;
-    b.orientation = (R * b.orientation).normalized();
-    return b;
-}
 
 GRADED_TEST(Worksheet3Hidden, ContactsFollowTheBodies, 2,
             "Turning and moving the whole scene must turn the contact's normal with it and leave its depth alone: "

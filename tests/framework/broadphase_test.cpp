@@ -124,6 +124,30 @@ TEST(BroadPhase, MarginFindsBodiesAboutToTouch) {
     EXPECT_TRUE(broadPhase.findPairs(bodies, 0.04).empty());
 }
 
+TEST(BroadPhase, TurnedBoxIsBoundedByItsCorners) {
+    // Without a margin, the bounds of a turned box are exactly the smallest and largest coordinates
+    // of its eight corners: nothing of the box sticks out, and no more is bounded than that.
+    std::mt19937 random(7);
+    const auto unit = [&random] { return static_cast<double>(random()) / 4294967296.0; };
+    for (int i = 0; i < 200; ++i) {
+        const Vec3 half(0.1 + unit(), 0.1 + unit(), 0.1 + unit());
+        const Vec3 direction = Vec3(unit() - 0.5, unit() - 0.5, unit() - 0.5).normalized();
+        const Body b = box("box", half, 1.0).at(Vec3(unit(), unit(), unit()) * 10.0)
+                           .rotated(Quat(Eigen::AngleAxisd(6.3 * unit(), direction)));
+        Vec3 lo = Vec3::Constant(1e300), hi = Vec3::Constant(-1e300);
+        for (int k = 0; k < 8; ++k) {
+            const Vec3 signs(k & 1 ? 1.0 : -1.0, k & 2 ? 1.0 : -1.0, k & 4 ? 1.0 : -1.0);
+            const Vec3 corner = b.position + b.orientation * signs.cwiseProduct(half);
+            lo = lo.cwiseMin(corner);
+            hi = hi.cwiseMax(corner);
+        }
+        const Aabb bounds = boundingBox(b);
+        // Coordinates of ~10 m round to ~2e-15 m.
+        EXPECT_LE((bounds.min - lo).cwiseAbs().maxCoeff(), 1e-12) << "turn " << i;
+        EXPECT_LE((bounds.max - hi).cwiseAbs().maxCoeff(), 1e-12) << "turn " << i;
+    }
+}
+
 TEST(BroadPhase, EmptyAndSingleScenes) {
     BroadPhase broadPhase;
     EXPECT_TRUE(broadPhase.findPairs({}).empty());

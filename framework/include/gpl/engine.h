@@ -13,6 +13,7 @@
 //   addRopeContacts()             every taut rope becomes a contact (worksheet 4)
 //   applyCollisionImpulses()      sweeps of applyCollisionImpulse() over contacts() (worksheet 4)
 //   resolveInterpenetrations()    sweeps of resolveInterpenetration() over contacts() (worksheet 3)
+//   rotate()                      integrateRotation() for every movable body (worksheet 6)
 #pragma once
 
 #include <cstddef>
@@ -170,13 +171,21 @@ public:
     void detectCollisions();
     /// Adds a contact for every taut rope, from ropeContact() (collision.cpp).
     void addRopeContacts();
-    /// Sweeps applyCollisionImpulse() over contacts() until none approaches (impulses.cpp).
+    /// Sweeps the impulse kernel over contacts() until none approaches (impulses.cpp): in scenes that
+    /// require the rotation stage applyContactImpulse() at the contact points (worksheet 6), in the
+    /// others applyCollisionImpulse() at the centres (worksheet 4).
     void applyCollisionImpulses();
     /// Sweeps over the near pairs of detectCollisions() and the taut ropes, moving every overlap it
     /// finds apart with resolveInterpenetration(), until none overlaps; overlaps its moves create
     /// join contacts(). Without the impulse stage the velocities follow the displacements, as in
     /// projectConstraints() (interpenetration.cpp).
     void resolveInterpenetrations();
+
+    // ---- Framework stage (worksheet 6) -------------------------------------------------------------
+    /// Advances the orientation and angular velocity of every movable body by timeStep() with
+    /// integrateRotation(); throws SimulationError naming the body when either is no longer finite
+    /// (rotation.cpp).
+    void rotate();
 
     // ---- Hooks not implemented yet ------------------------------------------------------------
     /// Called by a stub: records the hook and prints "not implemented: <hook>" once per process.
@@ -190,6 +199,8 @@ public:
     double potentialEnergy() const;
     double totalEnergy() const;      ///< J
     Vec3 linearMomentum() const;     ///< kg m/s
+    /// kg m^2/s, about the origin: the sum of every body's x × m v + R I R^T omega (rotation.cpp).
+    Vec3 angularMomentum() const;
     /// True when every body's position and velocity are finite.
     bool allFinite() const;
 

@@ -20,6 +20,10 @@ struct RunSummary {
     std::size_t maxContacts = 0;     ///< most contacts found in one step
     double deepestContact = 0.0;     ///< largest depth of any contact found, before resolution (m)
     std::string error;               ///< empty, or why the run stopped early (a non-finite state)
+
+    // The world's angular momentum about the origin (kg m^2/s), shown in scenes that rotate.
+    Vec3 initialAngularMomentum = Vec3::Zero();
+    Vec3 finalAngularMomentum = Vec3::Zero();  ///< at the end
 };
 
 /// The CSV header written by run(): step,time,body,x,y,z,vx,vy,vz,kinetic,potential,total.

@@ -53,6 +53,8 @@ void addWorksheet1Scenes(SceneRegistry& registry);
 void addWorksheet2Scenes(SceneRegistry& registry);
 void addWorksheet3Scenes(SceneRegistry& registry);
 void addWorksheet4Scenes(SceneRegistry& registry);
+void addWorksheet5Scenes(SceneRegistry& registry);
+void addWorksheet6Scenes(SceneRegistry& registry);
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl
