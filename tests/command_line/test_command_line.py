@@ -60,6 +60,8 @@ LAB_CASES = [
     (["bench", "contacts", "--bogus"], "--bogus", "--out DIR"),
     (["bench", "engine", "--bogus"], "--bogus", "--sizes N..."),
     (["bench", "engine", "--threads"], "--threads", "needs 1 or 2"),
+    (["bench", "engine", "--shape", "cone"], "--shape", "expects sphere or box, got 'cone'"),
+    (["bench", "engine", "--shape"], "--shape", "needs sphere or box"),
     (["assignments", "--bogus"], "--bogus", "--check or --write"),
     (["assignments", "--check", "--write"], "assignments", "expects one option"),
     (["release"], "dir", "required"),
