@@ -53,7 +53,7 @@ from grading.reports import (Progress, check_writable, gradebook, gradescope, re
                              write_atomically)
 from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of  # noqa: E402
 from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, failed_results, grade_binary,  # noqa: E402
-                             manifest, run_one)
+                             manifest, run_one, select, with_prerequisites)
 
 # ---- Commands -------------------------------------------------------------------------------------
 
@@ -247,7 +247,12 @@ def cmd_selfcheck(args):
             raise GradeError(f"seeded mistake '{args.mutant}' names the test {spec['must_fail']}, which does not exist")
         if args.worksheet is None:
             args.worksheet = named["worksheet"]  # the other worksheets' tests would only take time
-    results = grade_binary(args.binary, args.worksheet, args.defaults)
+    # A seeded mistake is graded on its named test and that test's prerequisites in the worksheet:
+    # what decides whether the named test loses its points; the others would only take time.
+    only = None
+    if spec is not None:
+        only = with_prerequisites(select(manifest(args.binary), args.worksheet), spec["must_fail"])
+    results = grade_binary(args.binary, args.worksheet, args.defaults, only=only)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
@@ -271,8 +276,11 @@ def cmd_selfcheck(args):
                              f"seeded mistake '{args.mutant}'")
         # The named test must lose its points in the graded run (failed or not run) AND fail when run
         # on its own: a prerequisite catching the mistake must not hide a test that cannot.
-        alone, output, _ = run_one(pathlib.Path(args.binary).resolve(), spec["must_fail"],
-                                   limits_of(named, args.defaults))
+        if named.get("not_run"):
+            alone, _, _ = run_one(pathlib.Path(args.binary).resolve(), spec["must_fail"],
+                                  limits_of(named, args.defaults))
+        else:
+            alone = named["passed"]  # it ran on its own already, in its own process
         ok = not named["passed"] and named["score"] == 0 and total < maximum and not alone
         if ok:
             print(f"OK: '{spec['mistake']}' is caught by {spec['must_fail']}"

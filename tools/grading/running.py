@@ -307,6 +307,19 @@ def _verdict(test, rc, out, why, limits, report_path, trace_path, binary):
     return passed, "\n".join(failures)
 
 
+def with_prerequisites(tests, name):
+    """The name and, transitively, the prerequisites it has among `tests` (a set of names)."""
+    by_name = {t["name"]: t for t in tests}
+    found, todo = set(), [name]
+    while todo:
+        n = todo.pop()
+        if n in found or n not in by_name:
+            continue
+        found.add(n)
+        todo.extend(by_name[n]["depends_on"])
+    return found
+
+
 def select(tests, worksheet):
     picked = [t for t in tests if worksheet is None or t["worksheet"] == worksheet]
     if not picked:
@@ -314,11 +327,14 @@ def select(tests, worksheet):
     return picked
 
 
-def grade_binary(binary, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None):
-    """Grades every selected test, prerequisites first. A test whose prerequisite lost its points
-    is not run: it scores zero and says which prerequisite to fix first."""
+def grade_binary(binary, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, only=None):
+    """Grades every selected test (of the worksheet; of those named in `only` too, when given),
+    prerequisites first. A test whose prerequisite lost its points is not run: it scores zero and
+    says which prerequisite to fix first."""
     binary = pathlib.Path(binary).resolve()
     tests = select(manifest(binary), worksheet)
+    if only is not None:
+        tests = [t for t in tests if t["name"] in only]
     results = {}
     for t in tests:
         blocked = [d for d in t["depends_on"] if d in results and not results[d]["passed"]]
