@@ -41,17 +41,17 @@ class Batch(unittest.TestCase):
             hooks.write_mutants(mutants)
         sources = {"solutions": ROOT / "solutions", "assignments": ROOT / "assignments"}
         sources.update({f"mutant_{m['name']}": mutants / m["name"] for m in hooks.load_mutants()})
-        # 50 submissions: three mistakes of each worksheet (a fixed sample: all of them would not fit
-        # in 50, each distinct submission compiles all its hook files, and ctest's grader.mutant.*
-        # check every mistake), the stubs five, a half-done one (integrator only, the rest missing)
-        # five, three with extra files besides the solutions, and the solutions.
+        # 50 submissions: two mistakes of each worksheet (a fixed sample: all of them would not fit
+        # in 50, each distinct submission compiles its hook files and runs every graded test, and
+        # ctest's grader.mutant.* check every mistake), the stubs five, a half-done one (integrator
+        # only, the rest missing) five, three with extra files besides the solutions, and the solutions.
         by_worksheet = {}
         for m in hooks.load_mutants():
             by_worksheet.setdefault(m["spec"], []).append(f"mutant_{m['name']}")
         picked = random.Random(5)
         plan = ["assignments"] * 5 + ["half"] * 5 + ["solutions+notes"] * 3
         for spec in sorted(by_worksheet):
-            plan += picked.sample(by_worksheet[spec], min(3, len(by_worksheet[spec])))
+            plan += picked.sample(by_worksheet[spec], min(2, len(by_worksheet[spec])))
         plan += ["solutions"] * (50 - len(plan))
         assert len(plan) == 50, "more seeded mistakes than a batch of 50 holds"
         cls.distinct = len({v.split("+")[0] for v in plan})
