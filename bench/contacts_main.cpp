@@ -385,7 +385,7 @@ int main(int argc, char** argv) {
     try {
         Output out(outDir);
         const std::vector<std::string> open = study::openContactHooks();
-        std::cout << "contacts study with the hooks of " << GPL_VARIANT << "/";
+        std::cout << "contacts study with the hooks of " << study::kHookVariant << "/";
         if (open.empty()) {
             std::cout << ": every hook it needs is written\n";
         } else {

@@ -13,6 +13,9 @@
 
 namespace gpl::study {
 
+/// The hooks the program is linked with ("solutions", "assignments", "reference"): variant_name.cpp.
+extern const char* const kHookVariant;
+
 /// x in scientific notation; "-" for NaN (not measured), "blew up" for an infinity.
 inline std::string sci(double x, int digits = 2) {
     if (std::isnan(x)) return "-";
