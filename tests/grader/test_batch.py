@@ -1,5 +1,5 @@
 """A batch of 50 submissions made from the solutions, the untouched stubs, a half-done submission and
-three seeded mistakes of each worksheet, graded with ./lab grade --batch. Checks: the gradebook
+one seeded mistake of each worksheet, graded with ./lab grade --batch. Checks: the gradebook
 matches each submission's results.json; each submission scores what the autograder built from the
 same code by the main build (an independent oracle) scores; identical submissions share one build
 and one run."""
@@ -41,9 +41,9 @@ class Batch(unittest.TestCase):
             hooks.write_mutants(mutants)
         sources = {"solutions": ROOT / "solutions", "assignments": ROOT / "assignments"}
         sources.update({f"mutant_{m['name']}": mutants / m["name"] for m in hooks.load_mutants()})
-        # 50 submissions: two mistakes of each worksheet (a fixed sample: all of them would not fit
-        # in 50, each distinct submission compiles its hook files and runs every graded test, and
-        # ctest's grader.mutant.* check every mistake), the stubs five, a half-done one (integrator
+        # 50 submissions: one mistake of each worksheet (a fixed sample: each distinct submission
+        # compiles its hook files and runs every graded test, and ctest's grader.mutant.* check
+        # every mistake), the stubs five, a half-done one (integrator
         # only, the rest missing) five, three with extra files besides the solutions, and the solutions.
         by_worksheet = {}
         for m in hooks.load_mutants():
@@ -51,7 +51,7 @@ class Batch(unittest.TestCase):
         picked = random.Random(5)
         plan = ["assignments"] * 5 + ["half"] * 5 + ["solutions+notes"] * 3
         for spec in sorted(by_worksheet):
-            plan += picked.sample(by_worksheet[spec], min(2, len(by_worksheet[spec])))
+            plan += picked.sample(by_worksheet[spec], 1)
         plan += ["solutions"] * (50 - len(plan))
         assert len(plan) == 50, "more seeded mistakes than a batch of 50 holds"
         cls.distinct = len({v.split("+")[0] for v in plan})
