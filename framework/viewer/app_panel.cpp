@@ -35,8 +35,12 @@ void App::drawOverlay() {
     ImGui::Text("t = %.2f s   step %zu   h = %s s x %d   speed x%s%s", e.time(), e.stepCount(),
                 formatNumber(session_.tick()).c_str(), session_.substeps(), formatNumber(session_.speed()).c_str(),
                 session_.paused() ? "   PAUSED" : "");
+    // Gravity acts only through its stage: a scene without it (spinning boxes in space) says so.
+    const char* gravity = !e.stageActive(Stage::ConstantAcceleration) ? "not applied"
+                          : session_.gravityOn()                      ? "on"
+                                                                      : "off";
     ImGui::Text("%s   stages: %s   gravity %s   %.0f fps", integratorName(e.integratorKind()),
-                e.requiredStages().names().c_str(), session_.gravityOn() ? "on" : "off", ImGui::GetIO().Framerate);
+                e.requiredStages().names().c_str(), gravity, ImGui::GetIO().Framerate);
     if (!e.missingHooks().empty()) {
         std::string hooks;
         for (const auto& h : e.missingHooks()) hooks += (hooks.empty() ? "" : ", ") + h;
