@@ -56,6 +56,7 @@ void PhysicsEngine::restore(const State& s) {
     time_ = s.time;
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
+    contactMemory_.entries.clear();
 }
 
 void PhysicsEngine::clear() {
@@ -67,6 +68,7 @@ void PhysicsEngine::clear() {
     nearPairs_.clear();
     container_.reset();
     previousPositions_.clear();
+    contactMemory_.entries.clear();
     time_ = 0.0;
     steps_ = 0;
 }
