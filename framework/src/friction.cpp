@@ -10,7 +10,12 @@
 //      tangent plane), applied once with applyWarmStart(),
 //   4. sweeps contactIterations() times over every point: applyNormalImpulse(), then
 //      applyFrictionImpulse() against the normal sum just updated,
-//   5. keeps the sums, sorted by pair, for the next step.
+//   5. moves every body by h times the change of its velocity in the stage, less its parts along the
+//      normals of the body's contacts, and turns it by h times the change of its angular velocity:
+//      the integration stage moved the bodies with the velocities before the impulses, and the
+//      interpenetration stage has already undone the motion along the normals. A block held by
+//      static friction on an incline then does not creep down by g h^2 sin(theta) a step,
+//   6. keeps the sums, sorted by pair, for the next step.
 // The number of sweeps is fixed: a resting stack converges a little more every step through the
 // warm start, so no sweep checks whether it is done.
 #include <algorithm>
@@ -105,6 +110,8 @@ void PhysicsEngine::keepRestingContacts() {
 
 void PhysicsEngine::solveContacts() {
     keepRestingContacts();
+    before_.resize(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) before_[i] = {bodies_[i].velocity, bodies_[i].angularVelocity};
     worldInvInertia_.resize(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) worldInvInertia_[i] = worldInverseInertia(bodies_[i]);
 
@@ -146,6 +153,32 @@ void PhysicsEngine::solveContacts() {
                 applyNormalImpulse(con, k, invIa, invIb, a, b, s);
                 applyFrictionImpulse(con, k, invIa, invIb, a, b, s);
             }
+        }
+    }
+
+    // The step's positions and orientations with the velocities after the impulses; along the
+    // contact normals interpenetration has moved the bodies already.
+    const double h = timeStep();
+    normals_.assign(bodies_.size(), {});
+    for (const Contact& con : contacts_) {
+        for (const std::size_t i : {con.a, con.b}) {
+            Normals& basis = normals_[i];
+            if (basis.count == 3) continue;
+            Vec3 n = con.normal;  // its part not yet in the basis (Gram-Schmidt)
+            for (int k = 0; k < basis.count; ++k) n -= n.dot(basis.axes[k]) * basis.axes[k];
+            if (n.norm() > 1e-3) basis.axes[basis.count++] = n.normalized();
+        }
+    }
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Body& b = bodies_[i];
+        if (b.isStatic()) continue;
+        Vec3 move = h * (b.velocity - before_[i].first);  // m
+        for (int k = 0; k < normals_[i].count; ++k) move -= move.dot(normals_[i].axes[k]) * normals_[i].axes[k];
+        b.position += move;
+        const Vec3 turn = h * (b.angularVelocity - before_[i].second);  // rad, world frame
+        if (!turn.isZero(0.0)) {
+            const double angle = turn.norm();
+            b.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * b.orientation).normalized();
         }
     }
 

@@ -7,8 +7,9 @@
 namespace gpl {
 namespace {
 
-const StageSet kFriction{Stage::ConstantAcceleration, Stage::Integration,       Stage::Rotation,
-                         Stage::CollisionDetection,   Stage::Interpenetration,  Stage::CollisionImpulses,
+// Worksheet 6's landing and the friction stage, which answers the contacts in place of the impulse stage.
+const StageSet kFriction{Stage::ConstantAcceleration, Stage::Integration,      Stage::Rotation,
+                         Stage::CollisionDetection,   Stage::Interpenetration, Stage::CollisionImpulses,
                          Stage::Friction};
 
 // The slope of the incline: 25 degrees, tan = 0.466.

@@ -17,11 +17,13 @@
 //   solveContacts()               summed normal and friction impulses, warm started (worksheet 7)
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gpl/body.h"
@@ -193,8 +195,11 @@ public:
     /// Friction and resting contact (friction.cpp): measures every contact point's approach, warm
     /// starts it with applyWarmStart() from last step's sums (same pair of bodies, nearest point within
     /// kWarmStartDistance), then sweeps contactIterations() times over contacts() with
-    /// applyNormalImpulse() and applyFrictionImpulse() at every point, and keeps the sums for the
-    /// next step. In a scene that requires it, applyCollisionImpulses() leaves the contacts to it.
+    /// applyNormalImpulse() and applyFrictionImpulse() at every point, moves every body by h times
+    /// the change of its velocity off its contacts' normals and turns it by h times the change of its
+    /// angular velocity (the step's positions follow the velocities after the impulses; along the
+    /// normals interpenetration moved them), and keeps the sums for the next step. In a scene that
+    /// requires it, applyCollisionImpulses() leaves the contacts to it.
     void solveContacts();
 
     // ---- Hooks not implemented yet ------------------------------------------------------------
@@ -242,6 +247,13 @@ private:
     ContactMemory contactMemory_;       ///< the friction stage's sums of last step, for warm starting
     std::vector<Mat3> worldInvInertia_;  ///< the friction stage's, per body: worldInverseInertia() this step
     std::vector<PointImpulse> sums_;     ///< the friction stage's, per contact point of this step
+    std::vector<std::pair<Vec3, Vec3>> before_;  ///< the friction stage's, per body: v and omega when it began
+    /// The friction stage's, per body: an orthonormal basis of its contacts' normals.
+    struct Normals {
+        std::array<Vec3, 3> axes;
+        int count = 0;
+    };
+    std::vector<Normals> normals_;
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().
