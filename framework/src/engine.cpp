@@ -47,6 +47,7 @@ void PhysicsEngine::remove(std::size_t index) {
     dropAndRenumber(ropes_);
     contacts_.clear();
     nearPairs_.clear();
+    contactMemory_.entries.clear();  // the friction stage's sums name bodies by index
 }
 
 void PhysicsEngine::restore(const State& s) {
