@@ -28,8 +28,8 @@ void both(Touch& t, const Mat3& invIa, const Mat3& invIb) {
 }
 
 GRADED_TEST(Worksheet7Hidden, ImpulsesSameForSwappedPair, 2,
-            "applyNormalImpulse() and applyFrictionImpulse() must not depend on which body is called a: with a and b "
-            "swapped and the normal reversed, both bodies end with the same velocities, and the sums are the same "
+            "Swapping the two bodies (and reversing the normal) must not change what the normal and friction kernels "
+            "do: both bodies end with the same velocities, and the sums are the same "
             "(the friction sum reversed, as it acts on the other body).",
             grading::hidden()) {
     Random rnd(791);
@@ -65,8 +65,8 @@ Body carried(Body b, const Quat& R, const Vec3& d) {
 }
 
 GRADED_TEST(Worksheet7Hidden, ImpulsesFollowRigidMotion, 2,
-            "applyNormalImpulse() and applyFrictionImpulse() in a scene turned and moved as a whole: the outcome is the "
-            "same, turned along (nothing may depend on the world axes, e.g. a tangent built from a fixed axis).",
+            "Turning and moving the whole contact as one must turn and move the outcome of the normal and friction "
+            "kernels along (nothing may depend on the world axes, e.g. a tangent built from a fixed axis).",
             grading::hidden()) {
     Random rnd(792);
     int changes = 0;
@@ -94,7 +94,7 @@ GRADED_TEST(Worksheet7Hidden, ImpulsesFollowRigidMotion, 2,
 }
 
 GRADED_TEST(Worksheet7Hidden, BallRollsDownIncline, 2,
-            "A solid ball on an incline of slope theta with tan(theta) < 7/2 mu_s rolls without slipping, its centre "
+            "Rolling down a slope of theta with tan(theta) < 7/2 mu_s, a solid ball does not slip, its centre "
             "accelerating at 5/7 g sin(theta) (static friction: no energy lost).",
             grading::hidden()) {
     PhysicsEngine& e = engine;
