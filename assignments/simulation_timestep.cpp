@@ -35,6 +35,10 @@ void PhysicsEngine::simulationTimestep() {
     // Impulses: velocities at the contacts change so that the bodies separate (worksheet 4).
     if (stageActive(Stage::CollisionImpulses)) applyCollisionImpulses();
 
+    // Friction: summed normal and friction impulses at every contact point, started from last
+    // step's; in a scene with friction this stage, not the one above, answers the contacts (worksheet 7).
+    if (stageActive(Stage::Friction)) solveContacts();
+
     // Constraints: move positions onto rods, chains and the container, and spheres apart (worksheet 2).
     if (stageActive(Stage::Constraints) || stageActive(Stage::ParticleCollisions)) projectConstraints();
 }

@@ -60,6 +60,12 @@ Body& Body::bouncy(double e) {
     return *this;
 }
 
+Body& Body::rough(double staticMu, double slidingMu) {
+    staticFriction = staticMu;
+    friction = slidingMu;
+    return *this;
+}
+
 Body& Body::makeStatic() {
     mass = std::numeric_limits<double>::infinity();
     invMass = 0.0;
@@ -117,6 +123,11 @@ void validate(const Body& b) {
         fail("restitution must lie in [0, 1], got " + formatNumber(b.restitution));
     if (!(b.friction >= 0.0 && std::isfinite(b.friction)))
         fail("friction must be a finite number >= 0, got " + formatNumber(b.friction));
+    if (!(b.staticFriction >= 0.0 && std::isfinite(b.staticFriction)))
+        fail("static friction must be a finite number >= 0, got " + formatNumber(b.staticFriction));
+    if (b.staticFriction < b.friction)
+        fail("static friction " + formatNumber(b.staticFriction) + " is below the sliding friction " +
+             formatNumber(b.friction) + ": a body that sticks holds at least what it would slide with");
 }
 
 double rotationalEnergy(const Body& b) {

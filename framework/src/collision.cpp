@@ -43,6 +43,8 @@ std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, s
         c->a = i;
         c->b = j;
         c->restitution = combineRestitution(p.restitution, q.restitution);
+        c->friction = combineFriction(p.friction, q.friction);
+        c->staticFriction = combineFriction(p.staticFriction, q.staticFriction);
     }
     return c;
 }

@@ -47,6 +47,7 @@ void PhysicsEngine::remove(std::size_t index) {
     dropAndRenumber(ropes_);
     contacts_.clear();
     nearPairs_.clear();
+    contactMemory_.entries.clear();  // the friction stage's sums name bodies by index
 }
 
 void PhysicsEngine::restore(const State& s) {
@@ -56,6 +57,7 @@ void PhysicsEngine::restore(const State& s) {
     time_ = s.time;
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
+    contactMemory_.entries.clear();
 }
 
 void PhysicsEngine::clear() {
@@ -67,6 +69,7 @@ void PhysicsEngine::clear() {
     nearPairs_.clear();
     container_.reset();
     previousPositions_.clear();
+    contactMemory_.entries.clear();
     time_ = 0.0;
     steps_ = 0;
 }

@@ -8,9 +8,8 @@
 // the rotation stage, applyContactImpulse() at the contact points (worksheet 6): a scene of
 // particles or spheres pays nothing for rotation.
 //
-// Worksheet 7 adds to the rotation branch: an accumulated normal and tangential impulse per contact
-// point (kept with the contact, clamped in the kernel), and warm starting, which applies last step's
-// accumulated impulses with applyImpulseAtPoint() before the first sweep.
+// In a scene with friction (worksheet 7) the friction stage answers the contacts instead, with
+// summed normal and friction impulses per contact point (friction.cpp); this stage then does nothing.
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"
@@ -30,6 +29,7 @@ bool approachesAtAPoint(const Contact& c, const Body& a, const Body& b) {
 }  // namespace
 
 void PhysicsEngine::applyCollisionImpulses() {
+    if (stageActive(Stage::Friction)) return;
     const bool turning = stageActive(Stage::Rotation);
     for (int sweep = 0; sweep < contactIterations_; ++sweep) {
         bool approaching = false;

@@ -22,7 +22,10 @@ bool validKey(const std::string& key) {
 
 void SceneRegistry::add(Scene scene) {
     scene.key = upper(scene.key);
-    if (!validKey(scene.key)) throw std::invalid_argument("scene '" + scene.name + "': key must be 0-9 or F1-F12");
+    // Keys ran out with worksheet 6: later course scenes have none (the scene list and the command line reach them).
+    const bool keyless = scene.key.empty() && scene.worksheet != 0;
+    if (!keyless && !validKey(scene.key))
+        throw std::invalid_argument("scene '" + scene.name + "': key must be 0-9 or F1-F12");
     const bool studentKey = scene.key == "F11" || scene.key == "F12";
     if (studentKey != (scene.worksheet == 0)) {
         throw std::invalid_argument("scene '" + scene.name + "': F11 and F12 are for the student's own scenes " +
@@ -30,7 +33,7 @@ void SceneRegistry::add(Scene scene) {
     }
     for (const Scene& s : scenes_) {
         if (s.name == scene.name) throw std::invalid_argument("two scenes are named '" + scene.name + "'");
-        if (s.key == scene.key) {
+        if (!keyless && s.key == scene.key) {
             throw std::invalid_argument("scenes '" + s.name + "' and '" + scene.name + "' share the key " + scene.key);
         }
     }
@@ -39,10 +42,10 @@ void SceneRegistry::add(Scene scene) {
 
 const Scene& SceneRegistry::find(const std::string& nameOrKey) const {
     for (const Scene& s : scenes_) {
-        if (s.name == nameOrKey || s.key == upper(nameOrKey)) return s;
+        if (s.name == nameOrKey || (!s.key.empty() && s.key == upper(nameOrKey))) return s;
     }
     std::string known;
-    for (const Scene& s : scenes_) known += "\n  " + s.key + "\t" + s.name;
+    for (const Scene& s : scenes_) known += "\n  " + (s.key.empty() ? "-" : s.key) + "\t" + s.name;
     throw std::invalid_argument("unknown scene '" + nameOrKey + "'; known scenes (key, name):" + known);
 }
 
@@ -55,6 +58,7 @@ const SceneRegistry& scenes() {
         addWorksheet4Scenes(r);
         addWorksheet5Scenes(r);
         addWorksheet6Scenes(r);
+        addWorksheet7Scenes(r);
         addStudentScenes(r);
         return r;
     }();

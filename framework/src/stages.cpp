@@ -18,6 +18,8 @@ const char* stageName(Stage stage) {
             return "ropes";
         case Stage::CollisionImpulses:
             return "impulses";
+        case Stage::Friction:
+            return "friction";
         case Stage::Interpenetration:
             return "interpenetration";
         case Stage::Constraints:

@@ -73,7 +73,7 @@ void App::drawPanel() {
 
     if (ImGui::BeginCombo("scene", (session_.scene().key + " " + session_.scene().name).c_str())) {
         for (const Scene& s : scenes().all()) {
-            if (ImGui::Selectable((s.key + " " + s.name).c_str(), &s == &session_.scene())) loadScene(s.key);
+            if (ImGui::Selectable((s.key + " " + s.name).c_str(), &s == &session_.scene())) loadScene(s.name);
         }
         ImGui::EndCombo();
     }

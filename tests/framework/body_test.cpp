@@ -1,4 +1,5 @@
 #include "gpl/body.h"
+#include "gpl/contact.h"
 
 #include <gtest/gtest.h>
 
@@ -65,6 +66,30 @@ TEST(Body, ValidateNamesTheBadField) {
     Body c = sphere("c", 0.5, 1.0);
     c.restitution = 1.5;
     EXPECT_THROW(validate(c), std::invalid_argument);
+}
+
+TEST(Body, FrictionCoefficientsChecked) {
+    EXPECT_NO_THROW(validate(box("block", {0.1, 0.2, 0.3}, 1.0).rough(0.6, 0.4)));
+    EXPECT_NO_THROW(validate(plane("ice", {0.0, 1.0, 0.0}).rough(0.0, 0.0)));
+    const struct {
+        double mus, mud;
+        const char* field;
+    } bad[] = {{kNaN, 0.4, "static friction"}, {0.6, kNaN, "friction"}, {-0.1, -0.2, "friction"},
+               {0.6, -0.1, "friction"},      {0.3, 0.5, "below the sliding friction"},
+               {std::numeric_limits<double>::infinity(), 0.5, "static friction"}};
+    for (const auto& c : bad) {
+        try {
+            validate(box("block", {0.1, 0.2, 0.3}, 1.0).rough(c.mus, c.mud));
+            FAIL() << "no exception for mu_s " << c.mus << ", mu_d " << c.mud;
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find(c.field), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("block"), std::string::npos) << e.what();
+        }
+    }
+    // The pair's rule: the geometric mean keeps a material's own coefficient and mu_s >= mu_d.
+    EXPECT_DOUBLE_EQ(combineFriction(0.4, 0.4), 0.4);
+    EXPECT_EQ(combineFriction(0.0, 0.9), 0.0);
+    EXPECT_GE(combineFriction(0.6, 0.9), combineFriction(0.5, 0.7));
 }
 
 TEST(Body, EnergyAndMomentum) {

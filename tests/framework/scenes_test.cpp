@@ -62,6 +62,21 @@ TEST(Scenes, RegistryRejectsDuplicatesAndBadKeys) {
     EXPECT_THROW(r.add({"c", "F13", "no such key", 1, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);
 }
 
+TEST(Scenes, LaterCourseScenesHaveNoKey) {
+    SceneRegistry r;
+    EXPECT_NO_THROW(r.add({"one", "", "a course scene without a key", 7, {}, kDefaultTimeStep, nullptr}));
+    EXPECT_NO_THROW(r.add({"two", "", "another", 7, {}, kDefaultTimeStep, nullptr}));
+    EXPECT_THROW(r.add({"mine", "", "a student scene needs F11 or F12", 0, {}, kDefaultTimeStep, nullptr}),
+                 std::invalid_argument);
+    EXPECT_EQ(r.find("two").name, "two");
+    EXPECT_THROW(r.find(""), std::invalid_argument);  // an empty key names no scene
+    for (const char* name : {"incline", "rolling-ball", "box-stack"}) {
+        const Scene& s = scenes().find(name);
+        EXPECT_EQ(s.worksheet, 7) << name;
+        EXPECT_TRUE(s.stages.contains(Stage::Friction)) << name;
+    }
+}
+
 TEST(Scenes, F11AndF12AreTheStudentsOwn) {
     SceneRegistry r;
     EXPECT_THROW(r.add({"course", "F11", "a course scene", 1, {}, kDefaultTimeStep, nullptr}), std::invalid_argument);

@@ -37,7 +37,8 @@ struct alignas(64) Body {
 
     // Material.
     double restitution = 0.5;  ///< coefficient of restitution, 0 (plastic) .. 1 (elastic)
-    double friction = 0.5;     ///< Coulomb friction coefficient (dimensionless)
+    double friction = 0.5;        ///< Coulomb friction while sliding, mu_d (dimensionless, >= 0)
+    double staticFriction = 0.5;  ///< Coulomb friction while sticking, mu_s (dimensionless, >= mu_d)
 
     // Rotation: pose, velocity and mass properties.
     Quat orientation = Quat::Identity();  ///< rotation from body to world frame (unit quaternion)
@@ -62,6 +63,8 @@ struct alignas(64) Body {
     Body& spinning(const Vec3& w);
     Body& rotated(const Quat& q);
     Body& bouncy(double e);  ///< sets the restitution (checked by validate())
+    /// Sets the friction coefficients, static mu_s and sliding mu_d (checked by validate()).
+    Body& rough(double staticMu, double slidingMu);
     /// Makes the body static: it never moves and is not affected by forces.
     Body& makeStatic();
 };

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 
 #include "gpl/math.h"
@@ -24,6 +25,8 @@ struct Contact {
     std::array<Vec3, kMaxContactPoints> points{};  ///< where the bodies touch, world frame (m)
     int pointCount = 0;                            ///< points in use, 1..kMaxContactPoints
     double restitution = 0.0;  ///< combined coefficient of restitution of the pair, 0..1 (set by the framework)
+    double friction = 0.0;     ///< combined sliding friction mu_d of the pair (set by the framework, worksheet 7)
+    double staticFriction = 0.0;  ///< combined static friction mu_s of the pair, >= friction (likewise)
 
     /// A contact at one point.
     static Contact at(const Vec3& point, const Vec3& normal, double depth) {
@@ -40,6 +43,12 @@ struct Contact {
 /// product. A plastic body (0) never bounces, two elastic ones (1) keep all their energy, and a
 /// rigid floor of restitution 1 lets every ball bounce with its own coefficient.
 inline double combineRestitution(double ea, double eb) { return ea * eb; }
+
+/// The rule that combines the friction coefficients of two bodies (static with static, sliding with
+/// sliding) into the pair's: their geometric mean sqrt(mu_a mu_b). Two bodies of the same material
+/// keep their coefficient, a frictionless body (0) makes the pair frictionless, and the order of
+/// mu_s >= mu_d survives the combination.
+inline double combineFriction(double mua, double mub) { return std::sqrt(mua * mub); }
 
 /// A rope between two bodies: at most `length` apart, it only pulls (a slack rope does nothing).
 /// A taut rope becomes a contact (ropeContact()) whose normal points along the rope from the second

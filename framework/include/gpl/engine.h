@@ -14,13 +14,16 @@
 //   applyCollisionImpulses()      sweeps of applyCollisionImpulse() over contacts() (worksheet 4)
 //   resolveInterpenetrations()    sweeps of resolveInterpenetration() over contacts() (worksheet 3)
 //   rotate()                      integrateRotation() for every movable body (worksheet 6)
+//   solveContacts()               summed normal and friction impulses, warm started (worksheet 7)
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gpl/body.h"
@@ -28,6 +31,7 @@
 #include "gpl/constraints.h"
 #include "gpl/contact.h"
 #include "gpl/forces.h"
+#include "gpl/friction.h"
 #include "gpl/integrators.h"
 #include "gpl/stages.h"
 
@@ -187,6 +191,17 @@ public:
     /// (rotation.cpp).
     void rotate();
 
+    // ---- Framework stage (worksheet 7) -------------------------------------------------------------
+    /// Friction and resting contact (friction.cpp): measures every contact point's approach, warm
+    /// starts it with applyWarmStart() from last step's sums (same pair of bodies, nearest point within
+    /// kWarmStartDistance), then sweeps contactIterations() times over contacts() with
+    /// applyNormalImpulse() and applyFrictionImpulse() at every point, moves every body by h times
+    /// the change of its velocity off its contacts' normals and turns it by h times the change of its
+    /// angular velocity (the step's positions follow the velocities after the impulses; along the
+    /// normals interpenetration moved them), and keeps the sums for the next step. In a scene that
+    /// requires it, applyCollisionImpulses() leaves the contacts to it.
+    void solveContacts();
+
     // ---- Hooks not implemented yet ------------------------------------------------------------
     /// Called by a stub: records the hook and prints "not implemented: <hook>" once per process.
     void notImplemented(const std::string& hook);
@@ -229,12 +244,24 @@ private:
     int contactIterations_ = 10;
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
+    ContactMemory contactMemory_;       ///< the friction stage's sums of last step, for warm starting
+    std::vector<Mat3> worldInvInertia_;  ///< the friction stage's, per body: worldInverseInertia() this step
+    std::vector<PointImpulse> sums_;     ///< the friction stage's, per contact point of this step
+    std::vector<std::pair<Vec3, Vec3>> before_;  ///< the friction stage's, per body: v and omega when it began
+    /// The friction stage's, per body: an orthonormal basis of its contacts' normals.
+    struct Normals {
+        std::array<Vec3, 3> axes;
+        int count = 0;
+    };
+    std::vector<Normals> normals_;
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().
     void recordOpenKernels();
     /// The rope's contact from ropeContact(), with the framework's fields set; none while slack.
     std::optional<Contact> ropeContactOf(const Rope& rope) const;
+    /// The friction stage's first part: last step's contacts that now touch at depth ~0, kept whole (friction.cpp).
+    void keepRestingContacts();
     /// e plus the energy of every spring, added one by one (J).
     double plusSpringEnergies(double e) const;
 };

@@ -1,6 +1,7 @@
 // Scenes: one small function per scene, registered with a name, a key and a description.
-// Keys 1-9, 0 and F1-F10 belong to the course's scenes; F11 and F12 to the student's own
-// (assignments/student_scenes.cpp).
+// Keys 1-9, 0 and F1-F10 belong to the course's scenes of worksheets 1-6; F11 and F12 to the
+// student's own (assignments/student_scenes.cpp). Later course scenes have no key (empty): the
+// viewer's scene menu and the command line (./lab viewer SCENE) reach them by name.
 #pragma once
 
 #include <functional>
@@ -13,7 +14,7 @@ namespace gpl {
 
 struct Scene {
     std::string name;                           ///< e.g. "falling-sphere"; used on the command line
-    std::string key;                            ///< "1".."9", "0", "F1".."F12"
+    std::string key;                            ///< "1".."9", "0", "F1".."F12"; empty: none (worksheet 7 on)
     std::string description;                    ///< one sentence: what to look at
     int worksheet = 0;                          ///< the worksheet the scene belongs to (0: the student's own)
     StageSet stages;                            ///< the stages the scene requires
@@ -55,6 +56,7 @@ void addWorksheet3Scenes(SceneRegistry& registry);
 void addWorksheet4Scenes(SceneRegistry& registry);
 void addWorksheet5Scenes(SceneRegistry& registry);
 void addWorksheet6Scenes(SceneRegistry& registry);
+void addWorksheet7Scenes(SceneRegistry& registry);
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl

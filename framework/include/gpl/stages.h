@@ -18,6 +18,7 @@ enum class Stage {
     Ropes,                 ///< taut ropes become contacts that pull, ropeContact() (worksheet 4)
     Interpenetration,      ///< move overlapping bodies apart, resolveInterpenetration() (worksheet 3)
     CollisionImpulses,     ///< change velocities at the contacts, applyCollisionImpulse() (worksheet 4)
+    Friction,              ///< friction and resting contact: summed, warm-started impulses per contact point (worksheet 7)
     Constraints,           ///< move positions to satisfy rods, chains and the container (worksheet 2)
     ParticleCollisions,    ///< push overlapping spheres apart by moving positions (worksheet 2)
     Count

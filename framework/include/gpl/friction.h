@@ -1,0 +1,72 @@
+// Friction and resting contact (worksheet 7): pure kernels for the impulses at one contact point
+// that a sequence of sweeps sums up, and the per-point sums the framework keeps between sweeps and
+// from one step to the next.
+//
+// Student hooks (bodies in assignments/, reference bodies in solutions/):
+//   applyNormalImpulse()    the normal impulse, summed over the sweeps and the sum kept >= 0
+//   applyFrictionImpulse()  the friction impulse, summed likewise, kept in the Coulomb cone
+//   applyWarmStart()        last step's sums applied again before the first sweep
+// All three act on the bodies through applyImpulseAtPoint() (worksheet 6).
+// Framework (friction.cpp): the friction stage, solveContacts().
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "gpl/body.h"
+#include "gpl/contact.h"
+
+namespace gpl {
+
+/// Approach speed (m/s) below which a contact does not bounce: a body resting on another gains
+/// g h ~ 0.1 m/s towards it in every step of 0.01 s, and a bounce of e times that would make it
+/// jitter. Five such steps' worth; a ball dropped from 1.3 cm or more still bounces.
+constexpr double kRestingSpeed = 0.5;
+
+/// Greatest distance (m) between a contact point of this step and one of last step's (same pair of
+/// bodies) for last step's impulses to warm start it.
+constexpr double kWarmStartDistance = 0.05;
+
+/// Gap (m) across which the friction stage keeps last step's contact of a pair. A box resting on
+/// another leaves the stage touching it (the normal velocities there zero, both falling alike in the
+/// next step), so the next step finds the two exactly touching, at depth ~0, where the collision
+/// kernel may see no contact or a single corner; the stage looks again with the upper body moved
+/// this far towards the lower one and keeps the whole contact, as touching. Twice what gravity
+/// moves a body in a step of 0.01 s (g h^2 = 1 mm).
+constexpr double kContactSlop = 0.002;
+
+/// What the sweeps have summed up at one contact point.
+struct PointImpulse {
+    double normal = 0.0;          ///< accumulated normal impulse (N s) along the contact normal; >= 0
+    Vec3 tangent = Vec3::Zero();  ///< accumulated friction impulse (N s, world frame), perpendicular to the normal
+    /// Normal velocity of the two material points at this point when the stage began, before warm
+    /// starting (m/s; < 0 approaching): what restitution answers.
+    double approach = 0.0;
+};
+
+/// Student hook (worksheet 7), solutions/normal_impulse.cpp: one sweep's normal impulse at
+/// contact.points[point]; invIa, invIb are worldInverseInertia() of a and b.
+void applyNormalImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
+                        PointImpulse& sum);
+/// Student hook (worksheet 7), solutions/friction_impulse.cpp: one sweep's friction impulse at
+/// contact.points[point]; invIa, invIb as above.
+void applyFrictionImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
+                          PointImpulse& sum);
+/// Student hook (worksheet 7), solutions/warm_start.cpp: the sums of last step at the point, applied
+/// to the bodies again.
+void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const PointImpulse& sum);
+
+/// Last step's contact points and their sums, for warm starting (kept by the engine).
+struct ContactMemory {
+    struct Entry {
+        std::size_t a = 0, b = 0;  ///< the pair's body indices
+        Vec3 normal = Vec3::UnitY();
+        int pointCount = 0;
+        std::array<Vec3, kMaxContactPoints> points{};
+        std::array<PointImpulse, kMaxContactPoints> sums{};
+    };
+    std::vector<Entry> entries;  ///< sorted by (a, b)
+};
+
+}  // namespace gpl

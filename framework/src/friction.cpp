@@ -1,0 +1,209 @@
+// Friction and resting contact in the engine (worksheet 7): sequential impulses with sums per
+// contact point. Each step
+//   0. keeps the contacts of last step's pairs that now touch at depth ~0 (kContactSlop), whole,
+//   1. builds every body's world inverse inertia once (worldInverseInertia(); orientations do not
+//      change during the stage, and the kernels would otherwise rebuild R I^-1 R^T at every point
+//      of every sweep),
+//   2. measures each point's approach speed (what restitution answers) before anything changes it,
+//   3. warm starts: a point of the same pair of bodies as one of last step's, within
+//      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
+//      tangent plane), applied once with applyWarmStart(),
+//   4. sweeps contactIterations() times over every point: applyNormalImpulse(), then
+//      applyFrictionImpulse() against the normal sum just updated,
+//   5. moves every body by h times the change of its velocity in the stage, less its parts along the
+//      normals of the body's contacts, and turns it by h times the change of its angular velocity:
+//      the integration stage moved the bodies with the velocities before the impulses, and the
+//      interpenetration stage has already undone the motion along the normals. A block held by
+//      static friction on an incline then does not creep down by g h^2 sin(theta) a step,
+//   6. keeps the sums, sorted by pair, for the next step.
+// The number of sweeps is fixed: a resting stack converges a little more every step through the
+// warm start, so no sweep checks whether it is done.
+#include <algorithm>
+#include <optional>
+#include <tuple>
+
+#include "gpl/collision.h"
+#include "gpl/engine.h"
+#include "gpl/friction.h"
+#include "gpl/rotation.h"
+
+namespace gpl {
+namespace {
+
+bool pairBefore(const ContactMemory::Entry& e, std::size_t a, std::size_t b) {
+    return std::tie(e.a, e.b) < std::tie(a, b);
+}
+
+// Last step's entry of the pair (a, b), or nullptr.
+const ContactMemory::Entry* remembered(const ContactMemory& memory, std::size_t a, std::size_t b) {
+    const auto it = std::lower_bound(memory.entries.begin(), memory.entries.end(), std::pair{a, b},
+                                     [](const ContactMemory::Entry& e, const std::pair<std::size_t, std::size_t>& k) {
+                                         return pairBefore(e, k.first, k.second);
+                                     });
+    if (it == memory.entries.end() || it->a != a || it->b != b) return nullptr;
+    return &*it;
+}
+
+// Last step's sums of the point nearest to p (within kWarmStartDistance), with the friction sum
+// projected onto the plane perpendicular to n; zero sums when there is none.
+PointImpulse warmSums(const ContactMemory::Entry* old, const Vec3& p, const Vec3& n) {
+    PointImpulse s;
+    if (old == nullptr) return s;
+    double best = kWarmStartDistance * kWarmStartDistance;
+    int found = -1;
+    for (int k = 0; k < old->pointCount; ++k) {
+        const double d = (old->points[k] - p).squaredNorm();
+        if (d <= best) {
+            best = d;
+            found = k;
+        }
+    }
+    if (found < 0) return s;
+    s.normal = old->sums[found].normal;
+    const Vec3& t = old->sums[found].tangent;
+    s.tangent = t - n.dot(t) * n;
+    return s;
+}
+
+// The contact of bodies[i] and bodies[j] with body j moved by `shift` (m) and back; positions are
+// restored exactly.
+std::optional<Contact> collideShifted(std::vector<Body>& bodies, std::size_t i, std::size_t j, const Vec3& shift) {
+    const Vec3 kept = bodies[j].position;
+    bodies[j].position = kept + shift;
+    std::optional<Contact> c = collide(bodies, i, j);
+    bodies[j].position = kept;
+    return c;
+}
+
+}  // namespace
+
+void PhysicsEngine::keepRestingContacts() {
+    // Last step's pairs: is each still in contact, and how deep?
+    std::vector<int> found(contactMemory_.entries.size(), -1);
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        const auto it = std::lower_bound(contactMemory_.entries.begin(), contactMemory_.entries.end(), con,
+                                         [](const ContactMemory::Entry& e, const Contact& k) {
+                                             return pairBefore(e, k.a, k.b);
+                                         });
+        if (it != contactMemory_.entries.end() && it->a == con.a && it->b == con.b) {
+            const std::size_t m = static_cast<std::size_t>(it - contactMemory_.entries.begin());
+            if (found[m] < 0) found[m] = static_cast<int>(c);
+        }
+    }
+    for (std::size_t m = 0; m < contactMemory_.entries.size(); ++m) {
+        const ContactMemory::Entry& e = contactMemory_.entries[m];
+        if (e.a >= bodies_.size() || e.b >= bodies_.size()) continue;
+        if (found[m] >= 0 && contacts_[found[m]].depth >= kContactSlop) continue;
+        // b moved towards a along last step's normal (it points from a to b).
+        std::optional<Contact> near = collideShifted(bodies_, e.a, e.b, -kContactSlop * e.normal);
+        if (!near || near->a != e.a || near->b != e.b) continue;
+        if (found[m] >= 0 && near->pointCount <= contacts_[found[m]].pointCount) continue;
+        near->depth = std::max(0.0, near->depth - kContactSlop);  // as touching: the impulses keep the gap
+        if (found[m] >= 0) {
+            contacts_[found[m]] = *near;
+        } else {
+            contacts_.push_back(*near);
+        }
+    }
+}
+
+void PhysicsEngine::solveContacts() {
+    keepRestingContacts();
+    before_.resize(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) before_[i] = {bodies_[i].velocity, bodies_[i].angularVelocity};
+    worldInvInertia_.resize(bodies_.size());
+    for (std::size_t i = 0; i < bodies_.size(); ++i) worldInvInertia_[i] = worldInverseInertia(bodies_[i]);
+
+    // Sums per point: contact c's points start at first[c].
+    std::vector<std::size_t> first(contacts_.size() + 1, 0);
+    for (std::size_t c = 0; c < contacts_.size(); ++c) first[c + 1] = first[c] + contacts_[c].pointCount;
+    sums_.assign(first.back(), PointImpulse{});
+
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        Body& a = bodies_[con.a];
+        Body& b = bodies_[con.b];
+        const ContactMemory::Entry* old = remembered(contactMemory_, con.a, con.b);
+        for (int k = 0; k < con.pointCount; ++k) {
+            PointImpulse& s = sums_[first[c] + k];
+            const double approach = normalVelocityAt(con, a, b, con.points[k]);
+            s = warmSums(old, con.points[k], con.normal);
+            s.approach = approach;
+        }
+    }
+    // Warm start after every approach is measured: an impulse at one point changes the others'.
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            const PointImpulse& s = sums_[first[c] + k];
+            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(con, k, bodies_[con.a], bodies_[con.b], s);
+        }
+    }
+
+    for (int sweep = 0; sweep < contactIterations_; ++sweep) {
+        for (std::size_t c = 0; c < contacts_.size(); ++c) {
+            const Contact& con = contacts_[c];
+            Body& a = bodies_[con.a];
+            Body& b = bodies_[con.b];
+            const Mat3& invIa = worldInvInertia_[con.a];
+            const Mat3& invIb = worldInvInertia_[con.b];
+            for (int k = 0; k < con.pointCount; ++k) {
+                PointImpulse& s = sums_[first[c] + k];
+                applyNormalImpulse(con, k, invIa, invIb, a, b, s);
+                applyFrictionImpulse(con, k, invIa, invIb, a, b, s);
+            }
+        }
+    }
+
+    // The step's positions and orientations with the velocities after the impulses; along the
+    // contact normals interpenetration has moved the bodies already.
+    const double h = timeStep();
+    normals_.assign(bodies_.size(), {});
+    for (const Contact& con : contacts_) {
+        for (const std::size_t i : {con.a, con.b}) {
+            Normals& basis = normals_[i];
+            if (basis.count == 3) continue;
+            Vec3 n = con.normal;  // its part not yet in the basis (Gram-Schmidt)
+            for (int k = 0; k < basis.count; ++k) n -= n.dot(basis.axes[k]) * basis.axes[k];
+            if (n.norm() > 1e-3) basis.axes[basis.count++] = n.normalized();
+        }
+    }
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        Body& b = bodies_[i];
+        if (b.isStatic()) continue;
+        Vec3 move = h * (b.velocity - before_[i].first);  // m
+        for (int k = 0; k < normals_[i].count; ++k) move -= move.dot(normals_[i].axes[k]) * normals_[i].axes[k];
+        b.position += move;
+        const Vec3 turn = h * (b.angularVelocity - before_[i].second);  // rad, world frame
+        if (!turn.isZero(0.0)) {
+            const double angle = turn.norm();
+            b.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * b.orientation).normalized();
+        }
+    }
+
+    // Keep the sums for the next step, one entry per pair (the first contact of a pair that
+    // interpenetration found twice).
+    contactMemory_.entries.clear();
+    contactMemory_.entries.reserve(contacts_.size());
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        ContactMemory::Entry e;
+        e.a = con.a;
+        e.b = con.b;
+        e.normal = con.normal;
+        e.pointCount = con.pointCount;
+        for (int k = 0; k < con.pointCount; ++k) {
+            e.points[k] = con.points[k];
+            e.sums[k] = sums_[first[c] + k];
+        }
+        contactMemory_.entries.push_back(e);
+    }
+    std::stable_sort(contactMemory_.entries.begin(), contactMemory_.entries.end(),
+                     [](const ContactMemory::Entry& x, const ContactMemory::Entry& y) {
+                         return pairBefore(x, y.a, y.b);
+                     });
+    recordOpenKernels();
+}
+
+}  // namespace gpl

@@ -1,0 +1,68 @@
+// Worksheet 7 scenes: friction and resting contact. The keys ran out with worksheet 6: these scenes
+// are reached by name (./lab viewer incline) or from the viewer's scene menu.
+#include <cmath>
+
+#include "gpl/scenes.h"
+
+namespace gpl {
+namespace {
+
+// Worksheet 6's landing and the friction stage, which answers the contacts in place of the impulse stage.
+const StageSet kFriction{Stage::ConstantAcceleration, Stage::Integration,      Stage::Rotation,
+                         Stage::CollisionDetection,   Stage::Interpenetration, Stage::CollisionImpulses,
+                         Stage::Friction};
+
+// The slope of the incline: 25 degrees, tan = 0.466.
+constexpr double kSlope = 25.0 * M_PI / 180.0;
+
+// Two boxes at rest on a slope of 25 degrees (tan 25 = 0.47). With the incline's coefficients 1 and
+// the combination sqrt(mu_a mu_b), the left box's pair has mu_s = 0.7, mu_d = 0.6 (above tan 25: it
+// stays) and the right box's mu_s = 0.3, mu_d = 0.2 (below: it slides down at
+// g (sin 25 - 0.2 cos 25) = 2.37 m/s^2).
+void incline(PhysicsEngine& e) {
+    const Vec3 normal(-std::sin(kSlope), std::cos(kSlope), 0.0);  // the slope rises along +x
+    const Vec3 upSlope(std::cos(kSlope), std::sin(kSlope), 0.0);
+    const Vec3 across = Vec3::UnitZ();
+    e.add(plane("incline", normal).rough(1.0, 1.0));
+    const Quat tilt(Eigen::AngleAxisd(kSlope, Vec3::UnitZ()));
+    const Vec3 half(0.3, 0.2, 0.3);
+    e.add(box("stays", half, 2.0).at(3.0 * upSlope - 0.6 * across + half.y() * normal).rotated(tilt).rough(0.49, 0.36));
+    e.add(box("slides", half, 2.0).at(3.0 * upSlope + 0.6 * across + half.y() * normal).rotated(tilt).rough(0.09, 0.04));
+}
+
+// A ball and a box thrown along the floor at 4 m/s without spin (mu = 0.3 with the floor). Friction
+// at the ball's contact point slows its centre and spins it up until the point no longer slides:
+// from then on it rolls at 5/7 of 4 m/s, 2.86 m/s, for ever. The box slides to a stop after
+// v^2 / (2 mu g) = 2.7 m.
+void rollingBall(PhysicsEngine& e) {
+    e.add(plane("floor", {0.0, 1.0, 0.0}).rough(0.3, 0.3));
+    e.add(sphere("ball", 0.3, 1.0).at({-4.0, 0.3, -0.6}).moving({4.0, 0.0, 0.0}).rough(0.3, 0.3).bouncy(0.0));
+    e.add(box("box", {0.25, 0.25, 0.25}, 1.0).at({-4.0, 0.25, 0.6}).moving({4.0, 0.0, 0.0}).rough(0.3, 0.3).bouncy(0.0));
+}
+
+// Five boxes stacked on the floor, each a little off the one below: the stack stands still, without
+// drift or jitter, held by the normal impulses that the sweeps sum up and warm starting carries from
+// step to step.
+void boxStack(PhysicsEngine& e) {
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    const Vec3 half(0.4, 0.25, 0.4);
+    for (int i = 0; i < 5; ++i) {
+        const double offset = (i % 2 == 0 ? 0.02 : -0.02);  // m
+        e.add(box("box" + std::to_string(i + 1), half, 1.0).at({offset, half.y() * (2 * i + 1), 0.0}).bouncy(0.0));
+    }
+}
+
+}  // namespace
+
+void addWorksheet7Scenes(SceneRegistry& r) {
+    // The incline is drawn as a patch of a few metres: the view frames the first 1.5 s, while the
+    // sliding box is on it.
+    r.add({"incline", "", "Two boxes on a slope of 25 degrees: the one with mu_s above tan 25 stays, the other slides.",
+           7, kFriction, kDefaultTimeStep, incline, Integrator::SemiImplicitEuler, Vec3(1.5, 0.6, 0.0), 7.0, 1.5});
+    r.add({"rolling-ball", "", "A ball and a box thrown along the floor: the ball ends rolling at 5/7 of its speed.", 7,
+           kFriction, kDefaultTimeStep, rollingBall, Integrator::SemiImplicitEuler, Vec3(-0.3, 0.5, 0.0), 10.0, 2.5});
+    r.add({"box-stack", "", "Five boxes stacked on the floor: they rest still, without drift or jitter.", 7, kFriction,
+           kDefaultTimeStep, boxStack, Integrator::SemiImplicitEuler, Vec3(0.0, 1.5, 0.0), 8.0, 10.0});
+}
+
+}  // namespace gpl

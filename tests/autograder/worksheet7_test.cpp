@@ -1,0 +1,523 @@
+// Worksheet 7 autograder: friction and resting contact. The kernels are called directly on pairs of
+// turning bodies drawn from a fixed seed and compared with what the sums of sequential impulses must
+// do: stop the approach (or bounce above the resting speed), keep the normal sum >= 0 while applying
+// its change, stop the slip along the tangent or slide with mu_d j_n against it, stay in the Coulomb
+// cone, never add kinetic energy. Whole scenes check the closed forms: a block on an incline stays
+// below atan(mu_s) and slides at g (sin - mu_d cos) above it, a sliding ball ends rolling at 5/7 of
+// its speed after 2 v0 / (7 mu g), a box and a small stack rest without drift or jitter.
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "friction.h"
+#include "graded.h"
+
+namespace gpl {
+namespace {
+
+using checks::Random;
+using checks::str;
+using checks::Touch;
+using checks::touchText;
+
+class Worksheet7 : public checks::ContactsTest {};
+
+// Quantities computed in a few operations round to ~1e-16 of their size; 1e-12 of it allows any
+// equivalent formula or order of operations, while every mistake tested here is off by percents.
+constexpr double kRounding = 1e-12;
+
+double speedScale(const Touch& t) {
+    double s = 1.0;
+    for (const Body* b : {&t.a, &t.b}) {
+        s += b->velocity.norm() + b->angularVelocity.norm() * (1.0 + (t.contact.points[0] - b->position).norm());
+    }
+    return s;
+}
+
+double normalVelocity(const Touch& t) { return checks::relativeAt(t.a, t.b, t.contact.points[0]).dot(t.contact.normal); }
+
+void normalImpulse(Touch& t) {
+    applyNormalImpulse(t.contact, 0, checks::inverseWorldInertia(t.a), checks::inverseWorldInertia(t.b), t.a, t.b,
+                       t.sum);
+}
+void frictionImpulse(Touch& t) {
+    applyFrictionImpulse(t.contact, 0, checks::inverseWorldInertia(t.a), checks::inverseWorldInertia(t.b), t.a, t.b,
+                         t.sum);
+}
+
+// The slip of the material points at the contact: the tangential part of their relative velocity (m/s).
+Vec3 slipOf(const Touch& t) {
+    const Vec3 u = checks::relativeAt(t.a, t.b, t.contact.points[0]);
+    return u - u.dot(t.contact.normal) * t.contact.normal;
+}
+
+// A touch whose points approach along the normal (sign -1) or separate (+1) by at least 0.1 m/s.
+Touch touchMoving(Random& rnd, int i, double sign) {
+    for (;;) {
+        Touch t = checks::randomTouch(rnd, i);
+        if (normalVelocity(t) * sign < 0.0) t.contact.normal = -t.contact.normal;
+        if (normalVelocity(t) * sign > 0.1) return t;
+    }
+}
+
+// A touch that slips by at least 0.1 m/s.
+Touch touchSlipping(Random& rnd, int i) {
+    for (;;) {
+        Touch t = checks::randomTouch(rnd, i);
+        if (slipOf(t).norm() > 0.1) return t;
+    }
+}
+
+bool changed(const Touch& now, const Touch& before) {
+    return now.a.velocity != before.a.velocity || now.b.velocity != before.b.velocity ||
+           now.a.angularVelocity != before.a.angularVelocity || now.b.angularVelocity != before.b.angularVelocity;
+}
+
+// ---- applyNormalImpulse() ----------------------------------------------------------------------------
+
+GRADED_TEST(Worksheet7, NormalImpulseStopsRestingApproach, 3,
+            "applyNormalImpulse() with an empty sum at a point that approaches slowly (a resting contact): afterwards "
+            "the normal velocity of the two material points there is exactly 0, and the sum holds the impulse given "
+            "(b's momentum changed by sum.normal n). The effective mass needs the angular terms. A point that "
+            "separates gets nothing: the sum never goes below 0 (worksheet 7, assignment 1).",
+            grading::dependsOn("Worksheet6.ImpulseAtPointConservesMomenta")) {
+    Random rnd(701);
+    int changes = 0;
+    for (int i = 0; i < 300; ++i) {
+        const bool separating = i % 3 == 0;
+        Touch t = touchMoving(rnd, i, separating ? 1.0 : -1.0);
+        t.sum.approach = -rnd.uniform(0.0, 0.9 * kRestingSpeed);  // resting: no bounce
+        const Touch before = t;
+        normalImpulse(t);
+        if (separating) {
+            ASSERT_FALSE(changed(t, before) || t.sum.normal != 0.0)
+                << "the point separates and the sum is empty, yet the kernel acted (sum now " << t.sum.normal
+                << " N s): a contact never pulls" << touchText(before);
+            continue;
+        }
+        changes += changed(t, before);
+        const double tol = 100.0 * kRounding * speedScale(before);
+        ASSERT_NEAR(normalVelocity(t), 0.0, tol)
+            << "normal velocity at the point after the impulse (it was " << normalVelocity(before)
+            << " m/s; a resting contact leaves at 0)" << touchText(before);
+        if (!t.b.isStatic()) {
+            const Vec3 given = t.b.mass * (t.b.velocity - before.b.velocity);  // N s
+            ASSERT_LE((given - t.sum.normal * t.contact.normal).norm(), tol * t.b.mass)
+                << "b's momentum changed by " << str(given) << " N s, but the sum says " << t.sum.normal
+                << " N s along the normal" << touchText(before);
+        }
+    }
+    EXPECT_GT(changes, 0) << "no approaching point got an impulse: applyNormalImpulse() does nothing yet";
+}
+
+GRADED_TEST(Worksheet7, NormalSumClampedNotTheStep, 3,
+            "applyNormalImpulse() with a sum from earlier sweeps at a point that now separates: the sum may shrink "
+            "(the step is negative) but never below 0. Where sum + step >= 0 the point leaves at normal velocity 0; "
+            "otherwise the sum becomes 0 and the bodies get -sum back. Clamp the sum, max(sum + step, 0), and "
+            "apply the difference; clamping the step at 0 leaves earlier sweeps' excess in for good.",
+            grading::dependsOn("NormalImpulseStopsRestingApproach")) {
+    Random rnd(702);
+    int shrunk = 0, emptied = 0;
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchMoving(rnd, i, 1.0);
+        t.sum.approach = -rnd.uniform(0.0, 0.9 * kRestingSpeed);
+        const Vec3 p = t.contact.points[0];
+        const double w = checks::inverseMassAlong(t.a, t.b, p, t.contact.normal);  // 1/kg
+        const double vn = normalVelocity(t);
+        // Earlier sweeps gave 0.3 to 3 times what the separation now takes back.
+        t.sum.normal = rnd.uniform(0.3, 3.0) * vn / w;
+        const Touch before = t;
+        normalImpulse(t);
+        const double tol = 100.0 * kRounding * speedScale(before);
+        const bool stays = before.sum.normal - vn / w >= 0.0;
+        const double expected = stays ? 0.0 : vn - before.sum.normal * w;  // m/s
+        shrunk += stays;
+        emptied += !stays;
+        ASSERT_NEAR(normalVelocity(t), expected, tol)
+            << "normal velocity at the point after the kernel; the sum of " << before.sum.normal << " N s "
+            << (stays ? "covers the step -v_n / w_n, so the point must leave at 0"
+                      : "cannot cover the step -v_n / w_n: it becomes 0 and the bodies get the whole sum back")
+            << touchText(before);
+        ASSERT_NEAR(t.sum.normal, stays ? before.sum.normal - vn / w : 0.0, tol / w)
+            << "the sum after the kernel" << touchText(before);
+    }
+    ASSERT_GT(shrunk * emptied, 0) << "the test must see both cases";
+}
+
+GRADED_TEST(Worksheet7, BounceOnlyAboveRestingSpeed, 2,
+            "applyNormalImpulse(): a point whose approach when the stage began (sum.approach) is faster than "
+            "kRestingSpeed bounces, leaving at -e times that approach; a slower one is resting contact and leaves "
+            "at 0, whatever e. Bouncing at resting speeds makes a box on the floor jitter.",
+            grading::dependsOn("NormalImpulseStopsRestingApproach")) {
+    Random rnd(703);
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchMoving(rnd, i, -1.0);
+        t.contact.restitution = rnd.uniform(0.2, 1.0);
+        const bool bounces = i % 2 == 0;
+        // The stage measured the approach before any sweep; here it is the velocity now.
+        const double vn = normalVelocity(t);
+        if (bounces && vn > -1.1 * kRestingSpeed) continue;
+        if (!bounces) {
+            t.sum.approach = -rnd.uniform(0.1, 0.9) * kRestingSpeed;
+        } else {
+            t.sum.approach = vn;
+        }
+        const Touch before = t;
+        normalImpulse(t);
+        const double expected = bounces ? -t.contact.restitution * vn : 0.0;
+        ASSERT_NEAR(normalVelocity(t), expected, 100.0 * kRounding * speedScale(before))
+            << "normal velocity after the impulse; the approach when the stage began was " << before.sum.approach
+            << " m/s, " << (bounces ? "faster" : "slower") << " than kRestingSpeed = " << kRestingSpeed << " m/s"
+            << touchText(before);
+    }
+}
+
+// ---- applyFrictionImpulse() --------------------------------------------------------------------------
+
+GRADED_TEST(Worksheet7, FrictionStopsSlipAlongTangent, 3,
+            "applyFrictionImpulse() with a large normal sum (the point sticks): the impulse acts against the slip u_t "
+            "along t = u_t / |u_t| with size |u_t| / w_t, so that afterwards the relative velocity along t is 0 (for "
+            "a ball on a fixed plane the whole slip is 0). w_t is 1/m_a + 1/m_b plus the angular terms along t; t "
+            "must be a unit vector (worksheet 7, assignment 2).",
+            grading::dependsOn("Worksheet6.ImpulseAtPointConservesMomenta")) {
+    Random rnd(711);
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchSlipping(rnd, i);
+        const bool ball = i % 4 == 0;
+        if (ball) {  // a ball on a fixed plane through the point: its slip stops whole
+            t.a.makeStatic();
+            t.b = sphere("ball", rnd.uniform(0.1, 1.0), rnd.uniform(0.1, 10.0))
+                      .at(t.b.position)
+                      .moving(rnd.inBox(5.0))
+                      .spinning(rnd.inBox(5.0));
+            t.contact.points[0] = t.b.position - t.b.radius * t.contact.normal;
+            if (slipOf(t).norm() < 0.1) continue;
+        }
+        t.sum.normal = 1e6;  // N s: far inside the cone
+        const Vec3 slip = slipOf(t);
+        const Vec3 dir = slip.normalized();
+        const Touch before = t;
+        frictionImpulse(t);
+        const double tol = 100.0 * kRounding * speedScale(before);
+        const Vec3 u = checks::relativeAt(t.a, t.b, t.contact.points[0]);
+        ASSERT_NEAR(u.dot(dir), 0.0, tol) << "relative velocity along the slip " << str(dir) << " afterwards (it slipped at "
+                                          << slip.norm() << " m/s)" << touchText(before);
+        if (ball) {
+            ASSERT_LE(slipOf(t).norm(), tol) << "a ball on a fixed plane: the slip afterwards is " << str(slipOf(t))
+                                             << touchText(before);
+        }
+        const double w = checks::inverseMassAlong(before.a, before.b, before.contact.points[0], dir);
+        ASSERT_LE((t.sum.tangent + slip.norm() / w * dir).norm(), tol / w)
+            << "the friction sum afterwards; expected -(|u_t| / w_t) t = " << str(-slip.norm() / w * dir)
+            << touchText(before);
+    }
+}
+
+GRADED_TEST(Worksheet7, SlidingFrictionIsMuDTimesNormal, 3,
+            "applyFrictionImpulse() where stopping the slip would take more than mu_s times the normal sum: the point "
+            "slides, and the friction sum becomes mu_d j_n against the slip, -mu_d j_n t (mu_d, contact.friction, "
+            "not mu_s; j_n, the normal sum, not the speed). The bodies get that impulse at the point.",
+            grading::dependsOn("FrictionStopsSlipAlongTangent")) {
+    Random rnd(712);
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchSlipping(rnd, i);
+        const Vec3 slip = slipOf(t);
+        const Vec3 dir = slip.normalized();
+        const double stop = slip.norm() / checks::inverseMassAlong(t.a, t.b, t.contact.points[0], dir);  // N s
+        t.sum.normal = rnd.uniform(0.05, 0.9) * stop / t.contact.staticFriction;
+        const Touch before = t;
+        frictionImpulse(t);
+        const Vec3 expected = -t.contact.friction * t.sum.normal * dir;
+        const double tol = 100.0 * kRounding * (stop + t.sum.normal);
+        ASSERT_LE((t.sum.tangent - expected).norm(), tol)
+            << "friction sum " << str(t.sum.tangent) << " N s, expected -mu_d j_n t = " << str(expected)
+            << " (stopping the slip would take " << stop << " N s > mu_s j_n = "
+            << t.contact.staticFriction * t.sum.normal << ")" << touchText(before);
+        if (!t.b.isStatic()) {
+            const Vec3 given = t.b.mass * (t.b.velocity - before.b.velocity);
+            ASSERT_LE((given - expected).norm(), tol)
+                << "b's momentum changed by " << str(given) << " N s, the friction sum is " << str(expected)
+                << touchText(before);
+        }
+    }
+}
+
+GRADED_TEST(Worksheet7, StaticFrictionHoldsUpToMuS, 2,
+            "applyFrictionImpulse(): a point sticks as long as the impulse that stops its slip stays within mu_s j_n "
+            "(static friction), even when that is more than mu_d j_n. Compare with contact.staticFriction to decide, "
+            "and only a sliding point gets mu_d.",
+            grading::dependsOn("FrictionStopsSlipAlongTangent")) {
+    Random rnd(713);
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchSlipping(rnd, i);
+        t.contact.friction = 0.3;
+        t.contact.staticFriction = 0.6;
+        const Vec3 slip = slipOf(t);
+        const Vec3 dir = slip.normalized();
+        const double stop = slip.norm() / checks::inverseMassAlong(t.a, t.b, t.contact.points[0], dir);  // N s
+        t.sum.normal = stop / rnd.uniform(0.35, 0.55);  // mu_d j_n < stop < mu_s j_n
+        const Touch before = t;
+        frictionImpulse(t);
+        const Vec3 u = checks::relativeAt(t.a, t.b, t.contact.points[0]);
+        ASSERT_NEAR(u.dot(dir), 0.0, 100.0 * kRounding * speedScale(before))
+            << "the point must stick: stopping it takes " << stop << " N s, within mu_s j_n = " << 0.6 * t.sum.normal
+            << " N s (though above mu_d j_n = " << 0.3 * t.sum.normal << " N s)" << touchText(before);
+    }
+}
+
+GRADED_TEST(Worksheet7, FrictionSumStaysInCone, 2,
+            "applyFrictionImpulse() over many sweeps, the normal sum changing in between: the friction sum stays "
+            "perpendicular to the normal and within mu_s j_n, and the bodies always hold exactly the sum (each call "
+            "applies the new sum minus the old). Clamp the sum, not the step, against j_n (not the speed).",
+            grading::dependsOn("SlidingFrictionIsMuDTimesNormal")) {
+    Random rnd(714);
+    int sliding = 0;
+    for (int i = 0; i < 100; ++i) {
+        Touch t = touchSlipping(rnd, i);
+        if (t.b.isStatic()) continue;
+        const Vec3 start = t.b.velocity;
+        const Vec3 n = t.contact.normal;
+        Vec3 kicks = Vec3::Zero();  // momentum given to b along the tangent plane outside the kernel (N s)
+        for (int sweep = 0; sweep < 20; ++sweep) {
+            t.sum.normal = rnd.uniform(0.0, 2.0) * t.b.mass;  // N s, growing or shrinking
+            const Vec3 kick = rnd.inBox(1.0);                 // m/s: the other contacts' impulses
+            t.b.velocity += kick;
+            kicks += t.b.mass * (kick - kick.dot(n) * n);
+            const Touch before = t;
+            frictionImpulse(t);
+            const double size = t.sum.tangent.norm();
+            sliding += t.sum.normal > 0.0 && std::abs(size - t.contact.friction * t.sum.normal) < 1e-9 * size;
+            ASSERT_LE(size, t.contact.staticFriction * t.sum.normal * (1.0 + kRounding) + kRounding)
+                << "sweep " << sweep << ": the friction sum " << str(t.sum.tangent) << " N s is outside the cone mu_s j_n = "
+                << t.contact.staticFriction * t.sum.normal << " N s" << touchText(before);
+            ASSERT_LE(std::abs(t.sum.tangent.dot(n)), kRounding * (1.0 + size))
+                << "sweep " << sweep << ": the friction sum " << str(t.sum.tangent) << " has a part along the normal"
+                << touchText(before);
+            const Vec3 held = t.b.mass * (t.b.velocity - start) - kicks;  // b's momentum from the kernel
+            const Vec3 heldTangent = held - held.dot(n) * n;
+            ASSERT_LE((heldTangent - t.sum.tangent).norm(), 1e3 * kRounding * (1.0 + t.b.mass * 20.0))
+                << "sweep " << sweep << ": b holds " << str(heldTangent) << " N s of friction from the kernel, the sum says "
+                << str(t.sum.tangent) << touchText(before);
+        }
+    }
+    EXPECT_GT(sliding, 0) << "no friction sum ever reached the edge of the cone";
+}
+
+GRADED_TEST(Worksheet7, FrictionNeverAddsEnergy, 2,
+            "applyFrictionImpulse() from an empty friction sum: friction takes kinetic energy (translation and "
+            "rotation) away, or none; it never adds any. The impulse acts against the slip, never along it, and "
+            "no larger than the one that stops it.",
+            grading::dependsOn("FrictionStopsSlipAlongTangent")) {
+    Random rnd(715);
+    int changes = 0;
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchSlipping(rnd, i);
+        const Vec3 dir = slipOf(t).normalized();
+        const double stop = slipOf(t).norm() / checks::inverseMassAlong(t.a, t.b, t.contact.points[0], dir);
+        t.sum.normal = rnd.uniform(0.1, 4.0) * stop;
+        const Touch before = t;
+        const double k0 = checks::energyOf(t.a) + checks::energyOf(t.b);
+        frictionImpulse(t);
+        const double k1 = checks::energyOf(t.a) + checks::energyOf(t.b);
+        changes += changed(t, before);
+        // Energies of up to ~1e3 J round to ~1e-13 J; 1e-11 of them allows any order of operations.
+        ASSERT_LE(k1, k0 + 1e-11 * (1.0 + k0)) << "kinetic energy rose from " << k0 << " J to " << k1 << " J"
+                                               << touchText(before);
+    }
+    EXPECT_GT(changes, 0) << "friction never changed a velocity: applyFrictionImpulse() does nothing yet";
+}
+
+// ---- applyWarmStart() ---------------------------------------------------------------------------------
+
+GRADED_TEST(Worksheet7, WarmStartAppliesLastSums, 2,
+            "applyWarmStart(): last step's sums act again at the point, j_n n + J_t on b and the opposite on a, "
+            "as the sweeps gave them (worksheet 7, assignment 3). Use applyImpulseAtPoint() with that impulse.",
+            grading::dependsOn("Worksheet6.ImpulseAtPointOffCentre")) {
+    Random rnd(721);
+    for (int i = 0; i < 300; ++i) {
+        Touch t = checks::randomTouch(rnd, i);
+        const Vec3 n = t.contact.normal;
+        t.sum.normal = rnd.uniform(0.0, 5.0);
+        t.sum.tangent = rnd.uniform(0.0, 1.0) * t.contact.staticFriction * t.sum.normal * rnd.perpendicular(n);
+        const Touch before = t;
+        applyWarmStart(t.contact, 0, t.a, t.b, t.sum);
+        const Vec3 j = t.sum.normal * n + t.sum.tangent;  // N s
+        const Vec3 p = t.contact.points[0];
+        for (const auto& [now, old, sign] : {std::tuple{&t.a, &before.a, -1.0}, std::tuple{&t.b, &before.b, 1.0}}) {
+            if (old->isStatic()) continue;
+            const Vec3 dv = sign * j / old->mass;
+            const Vec3 dw = sign * checks::inverseWorldInertia(*old) * (p - old->position).cross(j);
+            const double tol = 100.0 * kRounding * (speedScale(before) + dv.norm() + dw.norm());
+            ASSERT_LE((now->velocity - old->velocity - dv).norm(), tol)
+                << now->name << "'s velocity changed by " << str(now->velocity - old->velocity) << ", expected "
+                << str(dv) << " from the sums j_n n + J_t = " << str(j) << touchText(before);
+            ASSERT_LE((now->angularVelocity - old->angularVelocity - dw).norm(), tol)
+                << now->name << "'s angular velocity changed by " << str(now->angularVelocity - old->angularVelocity)
+                << ", expected " << str(dw) << touchText(before);
+        }
+    }
+}
+
+// ---- In the engine -----------------------------------------------------------------------------------
+
+// A plane tilted by `slope` (rad) about z (rising along +x) and a box of half extents 0.3 x 0.2 x 0.3 m
+// resting on it, both of the coefficients mu_s and mu_d (so the pair's are the same).
+void incline(PhysicsEngine& e, double slope, double mus, double mud) {
+    e.setRequiredStages(checks::frictionStages());
+    const Vec3 normal(-std::sin(slope), std::cos(slope), 0.0);
+    e.add(plane("incline", normal).rough(mus, mud));
+    const Vec3 up(std::cos(slope), std::sin(slope), 0.0);
+    e.add(box("block", {0.3, 0.2, 0.3}, 2.0)
+              .at(2.0 * up + 0.2 * normal)
+              .rotated(Quat(Eigen::AngleAxisd(slope, Vec3::UnitZ())))
+              .rough(mus, mud)
+              .bouncy(0.0));
+}
+
+GRADED_TEST(Worksheet7, BlockStaysOnGentleIncline, 3,
+            "A block at rest on an incline whose slope is below atan(mu_s) stays where it is: static friction holds "
+            "it (its speed stays ~0, it moves less than a millimetre in 3 s). The friction stage needs both kernels, "
+            "the normal sum for j_n and the friction sum within mu_s j_n.",
+            grading::dependsOn("FrictionStopsSlipAlongTangent"), grading::dependsOn("NormalImpulseStopsRestingApproach")) {
+    for (const double degrees : {10.0, 20.0, 25.0}) {
+        PhysicsEngine& e = engine;
+        e.clear();
+        const double slope = degrees * M_PI / 180.0;
+        incline(e, slope, 0.6, 0.5);  // tan 25 = 0.47 < 0.6
+        const Vec3 start = e.body("block").position;
+        for (int k = 1; k <= 300; ++k) {
+            e.step();
+            const Body& b = e.body("block");
+            // Gravity moves the block by g h^2 = 1 mm in a step before the stages answer; it must not add up.
+            ASSERT_LE((b.position - start).norm(), 1e-3)
+                << "step " << k << ": the block moved from " << str(start) << " to " << str(b.position) << " on a slope of "
+                << degrees << " degrees with mu_s = 0.6 (tan = " << std::tan(slope) << "): static friction must hold it";
+        }
+    }
+}
+
+GRADED_TEST(Worksheet7, BlockSlidesDownSteepIncline, 3,
+            "A block on an incline steeper than atan(mu_s) slides down with the acceleration g (sin theta - mu_d cos "
+            "theta): sliding friction mu_d j_n, not mu_s j_n, against the slip.",
+            grading::dependsOn("SlidingFrictionIsMuDTimesNormal"), grading::dependsOn("NormalImpulseStopsRestingApproach")) {
+    for (const double degrees : {30.0, 40.0}) {
+        PhysicsEngine& e = engine;
+        e.clear();
+        const double slope = degrees * M_PI / 180.0, mus = 0.5, mud = 0.3;  // tan 30 = 0.58 > 0.5
+        incline(e, slope, mus, mud);
+        const Vec3 down(-std::cos(slope), -std::sin(slope), 0.0);
+        const double g = e.gravity().norm(), h = e.timeStep();
+        const double a = g * (std::sin(slope) - mud * std::cos(slope));  // m/s^2
+        for (int k = 1; k <= 150; ++k) e.step();
+        const double t = 150 * h, v = e.body("block").velocity.dot(down);
+        // Semi-implicit Euler at a constant acceleration is exact, and so is mu_d j_n once j_n is the weight's
+        // normal part; the first steps' settling costs at most one step's change, a h, of the speed a t.
+        ASSERT_NEAR(v, a * t, 1.5 * a * h) << "speed down the slope of " << degrees << " degrees after " << t
+                                             << " s; expected g (sin - mu_d cos) t with mu_d = " << mud
+                                             << (std::abs(v - g * (std::sin(slope) - mus * std::cos(slope)) * t) < a * h
+                                                     ? " (this is mu_s, not mu_d)"
+                                                     : "");
+    }
+}
+
+GRADED_TEST(Worksheet7, SlidingBallEndsRolling, 3,
+            "A solid ball thrown without spin along a level floor slides; friction mu g slows it and spins it up "
+            "until its contact point stops slipping, at t = 2 v0 / (7 mu g), and from then on it rolls at 5/7 v0 "
+            "for ever. The friction impulse needs the angular terms of the effective mass, and a rolling ball "
+            "(no slip) must get no friction.",
+            grading::dependsOn("SlidingFrictionIsMuDTimesNormal"), grading::dependsOn("FrictionStopsSlipAlongTangent")) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(checks::frictionStages());
+    const double mu = 0.25, v0 = 4.0, r = 0.3;
+    e.add(plane("floor", {0.0, 1.0, 0.0}).rough(mu, mu));
+    e.add(sphere("ball", r, 2.0).at({0.0, r, 0.0}).moving({v0, 0.0, 0.0}).rough(mu, mu).bouncy(0.0));
+    const double g = e.gravity().norm(), h = e.timeStep();
+    const double rolling = 2.0 * v0 / (7.0 * mu * g);  // s
+    double rolledAt = -1.0;
+    double k0 = kineticEnergy(e.body("ball")), v = v0;
+    for (int k = 1; k <= 200; ++k) {
+        e.step();
+        const Body& b = e.body("ball");
+        // Sliding friction takes mu g h off the speed each step; rolling, nothing.
+        if (rolledAt < 0.0 && std::abs(b.velocity.x() - v) < 0.01 * mu * g * h) rolledAt = k * h;
+        v = b.velocity.x();
+        const double k1 = kineticEnergy(b);
+        // The gravity stage adds g h to the downward speed and the normal sum takes it back: the energy of the
+        // ball on the level floor can only fall, to rounding.
+        ASSERT_LE(k1, k0 + 1e-9 * k0) << "step " << k << ": kinetic energy rose from " << k0 << " J to " << k1
+                                       << " J: friction must never add energy";
+        k0 = k1;
+    }
+    const Body& b = e.body("ball");
+    // The slip falls by 7/2 mu g h per step: it stops within a step of the closed form.
+    EXPECT_NEAR(rolledAt, rolling, 1.5 * h) << "the ball stopped slipping at " << rolledAt << " s; expected 2 v0 / (7 mu g) = "
+                                            << rolling << " s";
+    // After the step where it stops slipping it rolls at the speed reached then, off by at most one step's
+    // mu g h from 5/7 v0.
+    EXPECT_NEAR(b.velocity.x(), 5.0 / 7.0 * v0, mu * g * h)
+        << "speed after 2 s; a ball that stops slipping rolls on at 5/7 v0 = " << 5.0 / 7.0 * v0 << " m/s";
+    EXPECT_NEAR(b.angularVelocity.z() * r, -5.0 / 7.0 * v0, mu * g * h) << "omega r after 2 s, rolling without slip";
+}
+
+GRADED_TEST(Worksheet7, BoxRestsWithoutJitter, 3,
+            "A box set down on the floor (restitution 0.5, turned about the vertical) stays at rest for 5 s: no "
+            "bounce at resting speeds (kRestingSpeed), no drift, no spin. Warm starting gives the box last step's "
+            "sums first; the normal sum holds it, friction keeps it from creeping.",
+            grading::dependsOn("BounceOnlyAboveRestingSpeed"), grading::dependsOn("WarmStartAppliesLastSums"),
+            grading::dependsOn("NormalImpulseStopsRestingApproach")) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(checks::frictionStages());
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    const Vec3 half(0.5, 0.2, 0.3);
+    e.add(box("box", half, 3.0).at({1.0, half.y(), -0.5}).rotated(Quat(Eigen::AngleAxisd(0.6, Vec3::UnitY()))).bouncy(0.5));
+    const Body start = e.body("box");
+    const double g = e.gravity().norm(), h = e.timeStep();
+    for (int k = 1; k <= 500; ++k) {
+        e.step();
+        const Body& b = e.body("box");
+        // Each step gravity adds g h downwards before the stages answer; at rest the stage takes it back to
+        // rounding. A bounce, even of e g h, leaves percents of g h.
+        ASSERT_LE(b.velocity.norm() + b.angularVelocity.norm() * half.norm(), 1e-3 * g * h)
+            << "step " << k << ": the box moves at " << str(b.velocity) << " m/s, turning at " << str(b.angularVelocity)
+            << " rad/s: it must rest";
+        // Interpenetration lifts the box out of the floor by the g h^2 it sank: within a hundredth of that.
+        ASSERT_LE((b.position - start.position).norm(), 1e-2 * g * h * h)
+            << "step " << k << ": the box has moved from " << str(start.position) << " to " << str(b.position);
+    }
+}
+
+GRADED_TEST(Worksheet7, SmallStackStands, 2,
+            "Three boxes stacked on the floor, each a little off the one below, stand still for 5 s: the sums of "
+            "normal impulses carry each box's weight down to the floor, and warm starting keeps them from step to "
+            "step.",
+            grading::dependsOn("BoxRestsWithoutJitter"), grading::dependsOn("NormalSumClampedNotTheStep")) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(checks::frictionStages());
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    const Vec3 half(0.4, 0.25, 0.4);
+    for (int i = 0; i < 3; ++i) {
+        e.add(box("box" + std::to_string(i + 1), half, 1.0).at({i == 1 ? -0.02 : 0.02, half.y() * (2 * i + 1), 0.0}).bouncy(0.0));
+    }
+    const std::vector<Body> start = e.bodies();
+    double fastest = 0.0;
+    for (int k = 1; k <= 500; ++k) {
+        e.step();
+        if (k <= 100) continue;  // the first second: the stack settles by a millimetre
+        for (const Body& b : e.bodies()) fastest = std::max(fastest, b.velocity.norm());
+    }
+    const double g = e.gravity().norm(), h = e.timeStep();
+    // At rest the stage takes back gravity's g h each step; a percent of it is what the sweeps leave of it in
+    // a stack of three.
+    EXPECT_LE(fastest, 1e-2 * g * h) << "the stack still moves in its last 4 s (fastest speed " << fastest << " m/s)";
+    for (std::size_t i = 1; i < start.size(); ++i) {
+        const Body& b = e.bodies()[i];
+        // Settling moves a box by a few tenths of a millimetre; a toppling or sliding stack by centimetres.
+        EXPECT_LE((b.position - start[i].position).norm(), 2e-3)
+            << b.name << " moved from " << str(start[i].position) << " to " << str(b.position);
+    }
+}
+
+}  // namespace
+}  // namespace gpl
