@@ -64,11 +64,20 @@ Polygon facingFace(const OrientedBox& box, const Vec3& outward) {
 
 // The part of the polygon where normal . x <= offset (one step of Sutherland-Hodgman clipping).
 Polygon clip(const Polygon& in, const Vec3& normal, double offset) {
+    // Each corner's height over the cutting plane, once (m; > 0: on the side cut away).
+    std::array<double, 8> height;
+    bool cut = false;
+    for (int i = 0; i < in.count; ++i) {
+        height[i] = normal.dot(in.corners[i]) - offset;
+        cut |= height[i] > 0.0;
+    }
+    if (!cut) return in;  // nothing beyond the plane
     Polygon out;
     for (int i = 0; i < in.count; ++i) {
+        const int next = i + 1 < in.count ? i + 1 : 0;
         const Vec3& p = in.corners[i];
-        const Vec3& q = in.corners[(i + 1) % in.count];
-        const double dp = normal.dot(p) - offset, dq = normal.dot(q) - offset;
+        const Vec3& q = in.corners[next];
+        const double dp = height[i], dq = height[next];
         if (dp <= 0.0) out.corners[out.count++] = p;
         if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) out.corners[out.count++] = p + dp / (dp - dq) * (q - p);
     }
