@@ -184,14 +184,14 @@ std::optional<Contact> boxBox([[maybe_unused]] const Body& a, [[maybe_unused]] c
     const double radii = a.halfExtents.norm() + b.halfExtents.norm();
     if (d.squaredNorm() >= radii * radii) return std::nullopt;
 
-    const OrientedBox boxA = orientedBox(a), boxB = orientedBox(b);
     // The shadows are measured in a's frame, where a's axes are the unit vectors and b's axes are
-    // the columns of R = A^T B: the half length of a shadow is then a sum of half extents times
-    // entries of |R|, computed once for all 15 axes.
-    const Mat3 R = boxA.axes.transpose() * boxB.axes;
+    // the columns of R = A^T B, the matrix of b's turn seen from a (q_a^-1 q_b): the half length
+    // of a shadow is then a sum of half extents times entries of |R|, computed once for all 15 axes.
+    const Quat toA = a.orientation.conjugate();  // world frame to a's frame
+    const Mat3 R = (toA * b.orientation).toRotationMatrix();
     const Mat3 absR = R.cwiseAbs();
-    const Vec3 t = boxA.axes.transpose() * d;  // from a's centre to b's, in a's frame
-    const Vec3 &ha = boxA.half, &hb = boxB.half;
+    const Vec3 t = toA * d;  // from a's centre to b's, in a's frame
+    const Vec3 &ha = a.halfExtents, &hb = b.halfExtents;
 
     // Face axes: the overlap of the shadows (m); <= 0: the axis separates the boxes. On a's axis m,
     // a's shadow reaches ha_m and b's hb . (row m of |R|); on b's, a's reaches ha . (column m).
@@ -202,7 +202,7 @@ std::optional<Contact> boxBox([[maybe_unused]] const Body& a, [[maybe_unused]] c
         const int m = k % 3;
         const double reachA = axisOfA ? ha[m] : ha.dot(absR.col(m));
         const double reachB = axisOfA ? hb.dot(absR.row(m).transpose()) : hb[m];
-        const double apart = std::abs(axisOfA ? t[m] : boxB.axes.col(m).dot(d));
+        const double apart = std::abs(axisOfA ? t[m] : R.col(m).dot(t));
         const double o = reachA + reachB - apart;
         if (o <= 0.0) return std::nullopt;
         if (o < faceDepth) {
@@ -235,6 +235,8 @@ std::optional<Contact> boxBox([[maybe_unused]] const Body& a, [[maybe_unused]] c
         }
     }
 
+    // The boxes overlap: their axes in the world frame for the contact.
+    const OrientedBox boxA = orientedBox(a), boxB = orientedBox(b);
     if (edgeDepth < kFacePreference * faceDepth) {
         const Vec3 edgeAxis = boxA.axes.col(edgeA).cross(boxB.axes.col(edgeB)).normalized();
         const Vec3 normal = edgeAxis.dot(d) < 0.0 ? Vec3(-edgeAxis) : edgeAxis;
