@@ -32,7 +32,7 @@ std::optional<Contact> boxPlane([[maybe_unused]] const Body& box, [[maybe_unused
     // The corners with their heights above the plane (m); behind it: height < 0.
     std::array<Vec3, 8> corners;
     std::array<double, 8> heights;
-    int behind = 0;
+    int behind = 0;  // corners behind the plane
     for (int j = 0; j < 8; ++j) {
         const Vec3 signs(j & 1 ? 1.0 : -1.0, j & 2 ? 1.0 : -1.0, j & 4 ? 1.0 : -1.0);  // of corner j
         const Vec3 x = box.position + axes * signs.cwiseProduct(box.halfExtents);
