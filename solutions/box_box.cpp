@@ -43,11 +43,6 @@ struct OrientedBox {
 
 OrientedBox orientedBox(const Body& b) { return {b.position, b.orientation.toRotationMatrix(), b.halfExtents}; }
 
-// Half the length of the box's shadow on a unit axis (m).
-double reach(const OrientedBox& box, const Vec3& axis) {
-    return box.half.dot((box.axes.transpose() * axis).cwiseAbs());
-}
-
 double sign(double x) { return x < 0.0 ? -1.0 : 1.0; }
 
 // A convex polygon of at most 8 corners: a face (4) cut by four planes (one more corner each).
@@ -69,11 +64,20 @@ Polygon facingFace(const OrientedBox& box, const Vec3& outward) {
 
 // The part of the polygon where normal . x <= offset (one step of Sutherland-Hodgman clipping).
 Polygon clip(const Polygon& in, const Vec3& normal, double offset) {
+    // Each corner's height over the cutting plane, once (m; > 0: on the side cut away).
+    std::array<double, 8> height;
+    bool cut = false;
+    for (int i = 0; i < in.count; ++i) {
+        height[i] = normal.dot(in.corners[i]) - offset;
+        cut |= height[i] > 0.0;
+    }
+    if (!cut) return in;  // nothing beyond the plane
     Polygon out;
     for (int i = 0; i < in.count; ++i) {
+        const int next = i + 1 < in.count ? i + 1 : 0;
         const Vec3& p = in.corners[i];
-        const Vec3& q = in.corners[(i + 1) % in.count];
-        const double dp = normal.dot(p) - offset, dq = normal.dot(q) - offset;
+        const Vec3& q = in.corners[next];
+        const double dp = height[i], dq = height[next];
         if (dp <= 0.0) out.corners[out.count++] = p;
         if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) out.corners[out.count++] = p + dp / (dp - dq) * (q - p);
     }
@@ -174,42 +178,67 @@ Vec3 edgePoint(const OrientedBox& a, int i, const OrientedBox& b, int j, const V
 
 std::optional<Contact> boxBox([[maybe_unused]] const Body& a, [[maybe_unused]] const Body& b) {
     // BEGIN SOLUTION
-    const OrientedBox boxA = orientedBox(a), boxB = orientedBox(b);
-    const Vec3 d = boxB.centre - boxA.centre;
-    // The overlap of the shadows on a unit axis (m); <= 0: the axis separates the boxes.
-    const auto overlap = [&](const Vec3& axis) { return reach(boxA, axis) + reach(boxB, axis) - std::abs(axis.dot(d)); };
+    const Vec3 d = b.position - a.position;
+    // Each box lies within the sphere through its corners: boxes whose spheres do not overlap are
+    // apart, and most near pairs of a heap are told so here, before any axis.
+    const double radii = a.halfExtents.norm() + b.halfExtents.norm();
+    if (d.squaredNorm() >= radii * radii) return std::nullopt;
 
+    // The shadows are measured in a's frame, where a's axes are the unit vectors and b's axes are
+    // the columns of R = A^T B, the matrix of b's turn seen from a (q_a^-1 q_b): the half length
+    // of a shadow is then a sum of half extents times entries of |R|, computed once for all 15 axes.
+    const Quat toA = a.orientation.conjugate();  // world frame to a's frame
+    const Mat3 R = (toA * b.orientation).toRotationMatrix();
+    const Mat3 absR = R.cwiseAbs();
+    const Vec3 t = toA * d;  // from a's centre to b's, in a's frame
+    const Vec3 &ha = a.halfExtents, &hb = b.halfExtents;
+
+    // Face axes: the overlap of the shadows (m); <= 0: the axis separates the boxes. On a's axis m,
+    // a's shadow reaches ha_m and b's hb . (row m of |R|); on b's, a's reaches ha . (column m).
     double faceDepth = INFINITY;
     int face = 0;  // 0..2: a face axis of a, 3..5: of b
     for (int k = 0; k < 6; ++k) {
-        const double o = overlap(k < 3 ? boxA.axes.col(k) : boxB.axes.col(k - 3));
+        const bool axisOfA = k < 3;
+        const int m = k % 3;
+        const double reachA = axisOfA ? ha[m] : ha.dot(absR.col(m));
+        const double reachB = axisOfA ? hb.dot(absR.row(m).transpose()) : hb[m];
+        const double apart = std::abs(axisOfA ? t[m] : R.col(m).dot(t));
+        const double o = reachA + reachB - apart;
         if (o <= 0.0) return std::nullopt;
         if (o < faceDepth) {
             faceDepth = o;
             face = k;
         }
     }
+    // Edge axes a_i x b_j; in a's frame, e_i x (column j of R). With (i, i1, i2) and (j, j1, j2)
+    // each box's axes in turn, its length is the sine of the edges' angle, a's shadow on it reaches
+    // ha_i1 |R_i2j| + ha_i2 |R_i1j|, b's hb_j1 |R_ij2| + hb_j2 |R_ij1|, and the centres are
+    // |t_i2 R_i1j - t_i1 R_i2j| apart: each divided by the length for the unit axis.
     double edgeDepth = INFINITY;
     int edgeA = 0, edgeB = 0;
-    Vec3 edgeAxis = Vec3::Zero();
     for (int i = 0; i < 3; ++i) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
         for (int j = 0; j < 3; ++j) {
-            Vec3 axis = boxA.axes.col(i).cross(boxB.axes.col(j));
-            const double length = axis.norm();
+            const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+            const double length = std::sqrt(R(i1, j) * R(i1, j) + R(i2, j) * R(i2, j));
             if (length < kParallel) continue;
-            axis /= length;
-            const double o = overlap(axis);
+            const double reachA = ha[i1] * absR(i2, j) + ha[i2] * absR(i1, j);
+            const double reachB = hb[j1] * absR(i, j2) + hb[j2] * absR(i, j1);
+            const double apart = std::abs(t[i2] * R(i1, j) - t[i1] * R(i2, j));
+            const double o = (reachA + reachB - apart) / length;
             if (o <= 0.0) return std::nullopt;
             if (o < edgeDepth) {
                 edgeDepth = o;
                 edgeA = i;
                 edgeB = j;
-                edgeAxis = axis;
             }
         }
     }
 
+    // The boxes overlap: their axes in the world frame for the contact.
+    const OrientedBox boxA = orientedBox(a), boxB = orientedBox(b);
     if (edgeDepth < kFacePreference * faceDepth) {
+        const Vec3 edgeAxis = boxA.axes.col(edgeA).cross(boxB.axes.col(edgeB)).normalized();
         const Vec3 normal = edgeAxis.dot(d) < 0.0 ? Vec3(-edgeAxis) : edgeAxis;
         return Contact::at(edgePoint(boxA, edgeA, boxB, edgeB, normal), normal, edgeDepth);
     }

@@ -29,24 +29,28 @@ std::optional<Contact> boxPlane([[maybe_unused]] const Body& box, [[maybe_unused
     // BEGIN SOLUTION
     const Vec3 n = plane.orientation * plane.normal;
     const Mat3 axes = box.orientation.toRotationMatrix();
-    // The corners with their heights above the plane (m), the deepest first.
-    std::array<std::pair<double, Vec3>, 8> corners;
+    // The corners with their heights above the plane (m); behind it: height < 0.
+    std::array<Vec3, 8> corners;
+    std::array<double, 8> heights;
+    int behind = 0;  // corners behind the plane
     for (int j = 0; j < 8; ++j) {
         const Vec3 signs(j & 1 ? 1.0 : -1.0, j & 2 ? 1.0 : -1.0, j & 4 ? 1.0 : -1.0);  // of corner j
         const Vec3 x = box.position + axes * signs.cwiseProduct(box.halfExtents);
-        corners[j] = {n.dot(x - plane.position), x};
+        corners[j] = x;
+        heights[j] = n.dot(x - plane.position);
+        if (heights[j] < 0.0) ++behind;
     }
-    std::sort(corners.begin(), corners.end(), [](const auto& p, const auto& q) { return p.first < q.first; });
-    const int behind = static_cast<int>(
-        std::count_if(corners.begin(), corners.end(), [](const auto& corner) { return corner.first < 0.0; }));
     if (behind == 0) return std::nullopt;
+    // The corners by height, the deepest first.
+    std::array<int, 8> order{0, 1, 2, 3, 4, 5, 6, 7};
+    std::sort(order.begin(), order.end(), [&heights](int p, int q) { return heights[p] < heights[q]; });
     Contact c;
     c.normal = -n;
-    c.depth = -corners[0].first;
+    c.depth = -heights[order[0]];
     c.pointCount = std::min(behind, kMaxContactPoints);
     for (int k = 0; k < c.pointCount; ++k) {
-        const auto& [height, x] = corners[k];
-        c.points[k] = x - 0.5 * height * n;  // halfway between the corner and the plane's surface
+        const int j = order[k];
+        c.points[k] = corners[j] - 0.5 * heights[j] * n;  // halfway between the corner and the plane's surface
     }
     return c;
     // ELSE STUB
