@@ -16,6 +16,10 @@
 //   BM_IntegrateRotation, BM_ApplyContactImpulse
 //                              one call of each rotation kernel (a tumbling box; a box on four points)
 //   BM_Rotation/N              the rotation stage, rotate(), on N tumbling boxes
+//   BM_NormalImpulse, BM_FrictionImpulse, BM_SolveContacts/N
+//                              worksheet 7: one sweep's normal and friction impulse at one point of
+//                              a box sliding on a rough floor; the friction stage on the heap
+//                              (friction 0.5, no sums of a last step to start from)
 //   BM_StepFreeFall/N, BM_StepFreeFallIdleStages/N and BM_GravityAndIntegrationOnly/N
 //                              a whole step of a scene that requires gravity and integration; the
 //                              same scene holding springs, distance constraints, ropes, a container
@@ -34,6 +38,7 @@
 #include "gpl/broadphase.h"
 #include "gpl/collision.h"
 #include "gpl/engine.h"
+#include "gpl/friction.h"
 #include "gpl/response.h"
 #include "gpl/rotation.h"
 #include "heap.h"
@@ -45,9 +50,11 @@ using gpl::Stage;
 using gpl::Vec3;
 
 // The heap's lattice squeezed to 0.95 m spacing: every neighbour overlaps a sphere of radius 0.5 m.
-void packedHeap(PhysicsEngine& e, std::size_t n) {
-    e.setRequiredStages({Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
-                         Stage::Interpenetration, Stage::CollisionImpulses});
+void packedHeap(PhysicsEngine& e, std::size_t n, bool rough = false) {
+    gpl::StageSet stages{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                         Stage::Interpenetration, Stage::CollisionImpulses};
+    if (rough) stages.insert(Stage::Friction);
+    e.setRequiredStages(stages);
     e.setTimeStep(gpl::bench::kTimeStep);
     e.add(gpl::plane("ground", Vec3::UnitY()));
     std::size_t i = 0;
@@ -57,7 +64,8 @@ void packedHeap(PhysicsEngine& e, std::size_t n) {
         e.add(gpl::sphere("s" + std::to_string(i++), gpl::bench::kRadius, gpl::bench::kMass)
                   .at(packed)
                   .moving(Vec3(0.0, -1.0, 0.0))
-                  .bouncy(0.0));
+                  .bouncy(0.0)
+                  .rough(rough ? gpl::bench::kFriction : 0.0, rough ? gpl::bench::kFriction : 0.0));
     }
 }
 
@@ -164,9 +172,9 @@ BENCHMARK(BM_ApplyCollisionImpulse);
 
 // One contact stage on the packed heap, from the same state every time.
 template <class Stages>
-void heapStage(benchmark::State& state, Stages stages) {
+void heapStage(benchmark::State& state, Stages stages, bool rough = false) {
     PhysicsEngine e;
-    packedHeap(e, static_cast<std::size_t>(state.range(0)));
+    packedHeap(e, static_cast<std::size_t>(state.range(0)), rough);
     const PhysicsEngine::State start = e.state();
     for (auto _ : state) {
         state.PauseTiming();
@@ -204,6 +212,20 @@ void BM_Impulses(benchmark::State& state) {
     });
 }
 BENCHMARK(BM_Impulses)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
+
+// The friction stage (worksheet 7) on the same heap, friction 0.5, from no sums of a last step.
+void BM_SolveContacts(benchmark::State& state) {
+    heapStage(
+        state,
+        [](PhysicsEngine& e, bool timed) {
+            if (timed)
+                e.solveContacts();
+            else
+                e.detectCollisions();
+        },
+        true);
+}
+BENCHMARK(BM_SolveContacts)->RangeMultiplier(4)->Range(64, 16384)->Complexity();
 
 void BM_Integration(benchmark::State& state) {
     PhysicsEngine e;
@@ -248,6 +270,43 @@ void BM_ApplyContactImpulse(benchmark::State& state) {
     }
 }
 BENCHMARK(BM_ApplyContactImpulse);
+
+// One sweep's normal and friction impulse at one point of a box sliding onto a rough floor
+// (worksheet 7), with the sums of earlier sweeps at zero each time.
+template <class Kernel>
+void pointImpulse(benchmark::State& state, Kernel kernel) {
+    const gpl::Body start = tumblingBox("box").at(Vec3(0.0, 0.3, 0.0)).moving(Vec3(1.0, -1.0, 0.0)).rough(0.6, 0.5);
+    gpl::Body floor = gpl::plane("floor", Vec3::UnitY()).rough(0.6, 0.5);
+    gpl::Contact c;
+    c.normal = -Vec3::UnitY();  // from the box into the floor
+    c.pointCount = 1;
+    c.points[0] = Vec3(0.15, 0.0, -0.4);
+    c.staticFriction = 0.6;
+    c.friction = 0.5;
+    const gpl::Mat3 invIa = gpl::worldInverseInertia(start), invIb = gpl::worldInverseInertia(floor);
+    gpl::Body b = start;
+    for (auto _ : state) {
+        b.velocity = start.velocity;
+        b.angularVelocity = start.angularVelocity;
+        gpl::PointImpulse sum;
+        sum.normal = 1.0;  // N s: what the friction kernel's cone is measured against
+        kernel(c, invIa, invIb, b, floor, sum);
+        benchmark::DoNotOptimize(b.velocity);
+        benchmark::DoNotOptimize(sum);
+    }
+}
+
+void BM_NormalImpulse(benchmark::State& state) {
+    pointImpulse(state, [](const gpl::Contact& c, const gpl::Mat3& ia, const gpl::Mat3& ib, gpl::Body& a, gpl::Body& b,
+                           gpl::PointImpulse& sum) { gpl::applyNormalImpulse(c, 0, ia, ib, a, b, sum); });
+}
+BENCHMARK(BM_NormalImpulse);
+
+void BM_FrictionImpulse(benchmark::State& state) {
+    pointImpulse(state, [](const gpl::Contact& c, const gpl::Mat3& ia, const gpl::Mat3& ib, gpl::Body& a, gpl::Body& b,
+                           gpl::PointImpulse& sum) { gpl::applyFrictionImpulse(c, 0, ia, ib, a, b, sum); });
+}
+BENCHMARK(BM_FrictionImpulse);
 
 void BM_Rotation(benchmark::State& state) {
     PhysicsEngine e;
