@@ -81,13 +81,9 @@ void PhysicsEngine::keepRestingContacts() {
     // Last step's pairs: is each still in contact, and how deep?
     std::vector<int> found(contactMemory_.entries.size(), -1);
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        const Contact& con = contacts_[c];
-        const auto it = std::lower_bound(contactMemory_.entries.begin(), contactMemory_.entries.end(), con,
-                                         [](const ContactMemory::Entry& e, const Contact& k) {
-                                             return pairBefore(e, k.a, k.b);
-                                         });
-        if (it != contactMemory_.entries.end() && it->a == con.a && it->b == con.b) {
-            const std::size_t m = static_cast<std::size_t>(it - contactMemory_.entries.begin());
+        const ContactMemory::Entry* old = remembered(contactMemory_, contacts_[c].a, contacts_[c].b);
+        if (old != nullptr) {
+            const std::size_t m = static_cast<std::size_t>(old - contactMemory_.entries.data());
             if (found[m] < 0) found[m] = static_cast<int>(c);
         }
     }
