@@ -315,7 +315,7 @@ void App::runScript() {
             if (ok) wheel(0, dir == "up" ? 1 : -1, x, y);
         } else if (verb == "set") {
             // What the panel's widgets set: "set restitution 0.3" (of the selected body),
-            // "set contact-iterations 4", "set stage impulses off".
+            // "set contact-iterations 4", "set speed 6", "set stage impulses off".
             std::string what, value;
             in >> what >> value;
             ok = !value.empty();
@@ -323,6 +323,12 @@ void App::runScript() {
                 session_.setRestitution(*session_.selected(), std::atof(value.c_str()));
             } else if (ok && what == "contact-iterations") {
                 session_.setContactIterations(std::atoi(value.c_str()));
+            } else if (ok && what == "speed") {
+                // The panel's slider: simulated seconds per real second, 1/64 to 8.
+                char* end = nullptr;
+                const double speed = std::strtod(value.c_str(), &end);
+                ok = *end == '\0' && speed >= 1.0 / 64.0 && speed <= 8.0;
+                if (ok) session_.setSpeed(speed);
             } else if (ok && what == "stage") {
                 // The stage's name may have spaces: the last word is on or off.
                 std::string name = value, onOff;

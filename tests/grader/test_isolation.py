@@ -5,8 +5,10 @@ huge file, one that starts threads in a loop, one that opens a network connectio
 the solutions, another submission and the results. Each misbehaves only in some tests (a condition
 on the time step or the masses), so the test checks that exactly those tests lose their points, with
 the right message, and that every other test of the same submission, and every other submission, is
-unaffected. The batch runs in the sandbox (bubblewrap), which this machine allows; a second, smaller
-batch runs without it (GPL_GRADER_SANDBOX=off), where the write guard catches the writer."""
+unaffected. The batch runs in the sandbox (bubblewrap), which this machine allows, and grades
+worksheet 1, where every misbehaviour is; a second, smaller batch runs without it
+(GPL_GRADER_SANDBOX=off), where the write guard catches the writer, and grades the whole course: a
+free fall that loses its points there leaves the later worksheets' stepping tests not run."""
 import csv
 import hashlib
 import json
@@ -167,16 +169,20 @@ EXPECTED = {
 }
 
 # Tests of later worksheets that step the engine depend on worksheet 1's free fall (the integrator
-# and the time step): where that loses its points, they are not run.
+# and the time step): where that loses its points, they are not run (WithoutSandbox grades them).
 STEPPING = [t["name"] for t in running.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
             if "Worksheet1.MatchesDiscreteFreeFall" in t["depends_on"]]
-for expected in EXPECTED.values():
-    if "Worksheet1.MatchesDiscreteFreeFall" in expected:
-        expected.update({name: ("not run", r"^not run: depends on Worksheet1.MatchesDiscreteFreeFall")
-                         for name in STEPPING})
 
 
-def grade_batch(cls, names, env=None):
+def whole_course(expected):
+    """What a submission that misbehaves as `expected` says on worksheet 1 loses in the whole course."""
+    if "Worksheet1.MatchesDiscreteFreeFall" not in expected:
+        return dict(expected)
+    return {**expected, **{name: ("not run", r"^not run: depends on Worksheet1.MatchesDiscreteFreeFall")
+                           for name in STEPPING}}
+
+
+def grade_batch(cls, names, env=None, worksheet=None):
     """Grades the named submissions as one batch; sets cls.tmp, cls.proc, cls.gradebook, cls.results."""
     cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-isolation-"))
     batch = cls.tmp / "batch"
@@ -195,9 +201,10 @@ def grade_batch(cls, names, env=None):
         fake.parent.mkdir(parents=True)
         fake.write_text("// a test file that lets everything pass\n")
     cls.gradebook = cls.tmp / "gradebook.csv"
+    only = ["--worksheet", str(worksheet)] if worksheet else []
     cls.proc = subprocess.run([str(ROOT / "lab"), "grade", "--batch", str(batch), "--out", str(cls.gradebook),
-                               "--timeout", "2", "--memory", str(MEMORY)], capture_output=True, text=True, cwd=ROOT, timeout=500,
-                              env={**os.environ, **(env or {})})
+                               "--timeout", "2", "--memory", str(MEMORY), *only], capture_output=True, text=True,
+                              cwd=ROOT, timeout=500, env={**os.environ, **(env or {})})
     cls.results = {}
     for name in names:
         path = cls.tmp / "gradebook-results" / name / "results.json"
@@ -209,7 +216,7 @@ class Misbehaving(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.before = tree_digest(ROOT / "tests")
-        grade_batch(cls, list(SUBMISSIONS))
+        grade_batch(cls, list(SUBMISSIONS), worksheet=1)
 
     @classmethod
     def tearDownClass(cls):
@@ -218,6 +225,8 @@ class Misbehaving(unittest.TestCase):
     def test_the_batch_ran_and_lost_points(self):
         self.assertEqual(self.proc.returncode, 1, self.proc.stdout + self.proc.stderr)
         self.assertEqual(set(self.results), set(SUBMISSIONS), self.proc.stderr)
+        graded = {t["name"].split(".")[0] for t in self.results["reference"]["tests"]}
+        self.assertEqual(graded, {"Worksheet1", "Worksheet1Hidden"})
 
     def test_the_tests_folder_is_unchanged(self):
         self.assertFalse(INJECTED.exists())
@@ -329,9 +338,7 @@ class WithoutSandbox(unittest.TestCase):
                                                       r"tests/autograder/injected_test.cpp, tests/autograder/worksheet1_test.cpp"),
             "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
         }
-        expected.update({name: ("not run", r"^not run: depends on Worksheet1.MatchesDiscreteFreeFall")
-                         for name in STEPPING})
-        EXPECTED["writes_tests (no sandbox)"] = expected
+        EXPECTED["writes_tests (no sandbox)"] = whole_course(expected)
         self.results["writes_tests (no sandbox)"] = self.results["writes_tests"]
         self.check("writes_tests (no sandbox)")
         self.assertFalse(INJECTED.exists())
@@ -340,7 +347,10 @@ class WithoutSandbox(unittest.TestCase):
         self.assertTrue(quarantined, "what the submission wrote is kept aside")
 
     def test_starting_processes_is_still_refused(self):
-        self.check("forks")
+        EXPECTED["forks (no sandbox)"] = whole_course(EXPECTED["forks"])
+        self.results["forks (no sandbox)"] = self.results["forks"]
+        self.check("forks (no sandbox)")
+        self.assertTrue(any(t["name"].startswith("Worksheet7") for t in self.results["forks"]["tests"]))
 
     def test_without_the_sandbox_the_solutions_are_in_sight(self):
         results = self.results["snoops"]

@@ -13,7 +13,10 @@ VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 RUNNER = os.environ.get("GPL_RUN_SOLUTIONS")
 # Libraries to preload into the viewer in a sanitizer build (tests/CMakeLists.txt says why).
 PRELOAD = ["env", f"LD_PRELOAD={os.environ['GPL_VIEWER_PRELOAD']}"] if os.environ.get("GPL_VIEWER_PRELOAD") else []
-FRAMES_PER_DUMP = 6  # 0.1 s of simulated time at 60 frames per second
+# The viewer runs at speed 6 (the panel's slider): each frame it draws is 0.1 s of simulated time, so
+# every frame is a report, and it draws a sixth of the frames it would at speed 1.
+SPEED = 6
+DUMP_SECONDS = 0.1
 
 
 def viewer(*args, timeout=300):
@@ -36,9 +39,9 @@ def track(scene):
     if not first:
         return scene, None, out
     seconds = first[0]["view"]["seconds"]
-    dumps = int(round(seconds * 60 / FRAMES_PER_DUMP))
-    # "wait N" lets the frame it is read in and N more pass: N + 1 frames between reports.
-    script = "dump; " + f"wait {FRAMES_PER_DUMP - 1}; dump; " * dumps + "quit"
+    dumps = int(round(seconds / DUMP_SECONDS))
+    # "wait 0" lets the frame it is read in pass: one frame, 0.1 s, between reports.
+    script = f"set speed {SPEED}; dump; " + "wait 0; dump; " * dumps + "quit"
     code, states, out = viewer(scene, "--ghost", "--script", script)
     return scene, (code, states), out
 

@@ -132,6 +132,14 @@ class Window(unittest.TestCase):
         self.assertEqual((fast["speed"], slow["speed"]), (2.0, 0.5))
         self.assertFalse(running["paused"])
         self.assertGreater(running["steps"], back2["steps"])
+        # The panel's speed slider, as a script sets it: a frame of 1/60 s is 0.1 s of simulated time
+        # (ten of the scene's steps of 0.01 s).
+        rc, states, log = viewer(SOLUTIONS, "static-and-movable", "--script", "set speed 6; dump; wait 0; dump; quit")
+        self.assertEqual(rc, 0, log)
+        before, after = states
+        self.assertEqual(after["speed"], 6.0)
+        self.assertEqual(after["steps"] - before["steps"], 10)
+        self.assertAlmostEqual(after["time"] - before["time"], 0.1, delta=1e-9)
 
     def test_pick_and_drag_a_body_with_the_mouse(self):
         shot = self.tmp / "drag.png"
@@ -270,6 +278,10 @@ class Window(unittest.TestCase):
         self.assertEqual(rc, 2)
         self.assertIn("--script: expects commands such as", log)
         self.assertIn("got 'frobnicate'", log)
+        for speed in ("9", "0", "fast", "nan"):  # the panel's slider goes from 1/64 to 8
+            rc, _, log = viewer(SOLUTIONS, "--script", f"set speed {speed}; quit")
+            self.assertEqual(rc, 2, speed)
+            self.assertIn(f"got 'set speed {speed}'", log)
         rc, _, log = viewer(SOLUTIONS, "--frames", 1, "--out", "/proc/no-such-folder")
         self.assertEqual(rc, 2)
         self.assertIn("--out: expects a folder that exists or can be made, and is writable", log)
