@@ -19,6 +19,7 @@
 // The number of sweeps is fixed: a resting stack converges a little more every step through the
 // warm start, so no sweep checks whether it is done.
 #include <algorithm>
+#include <numeric>
 #include <optional>
 #include <tuple>
 
@@ -180,9 +181,16 @@ void PhysicsEngine::solveContacts() {
 
     // Keep the sums for the next step, one entry per pair (the first contact of a pair that
     // interpenetration found twice).
+    // Sorted by pair: the indices are sorted, not the entries (300 bytes each; the contacts come
+    // nearly in pair order from the broad phase).
+    std::vector<std::size_t> order(contacts_.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [this](std::size_t x, std::size_t y) {
+        return std::tie(contacts_[x].a, contacts_[x].b) < std::tie(contacts_[y].a, contacts_[y].b);
+    });
     contactMemory_.entries.clear();
     contactMemory_.entries.reserve(contacts_.size());
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    for (const std::size_t c : order) {
         const Contact& con = contacts_[c];
         ContactMemory::Entry e;
         e.a = con.a;
@@ -195,10 +203,6 @@ void PhysicsEngine::solveContacts() {
         }
         contactMemory_.entries.push_back(e);
     }
-    std::stable_sort(contactMemory_.entries.begin(), contactMemory_.entries.end(),
-                     [](const ContactMemory::Entry& x, const ContactMemory::Entry& y) {
-                         return pairBefore(x, y.a, y.b);
-                     });
     recordOpenKernels();
 }
 
