@@ -92,6 +92,10 @@ void PhysicsEngine::keepRestingContacts() {
         const ContactMemory::Entry& e = contactMemory_.entries[m];
         if (e.a >= bodies_.size() || e.b >= bodies_.size()) continue;
         if (found[m] >= 0 && contacts_[found[m]].depth >= kContactSlop) continue;
+        // A contact of a sphere has one point, any contact at most kMaxContactPoints: one that has
+        // them all already is whole, and looking again would find no more.
+        const int whole = bodies_[e.a].shape == Shape::Sphere || bodies_[e.b].shape == Shape::Sphere ? 1 : kMaxContactPoints;
+        if (found[m] >= 0 && contacts_[found[m]].pointCount >= whole) continue;
         // b moved towards a along last step's normal (it points from a to b).
         std::optional<Contact> near = collideShifted(bodies_, e.a, e.b, -kContactSlop * e.normal);
         if (!near || near->a != e.a || near->b != e.b) continue;
