@@ -83,8 +83,8 @@ std::optional<Contact> collideShifted(std::vector<Body>& bodies, std::size_t i, 
 }  // namespace
 
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
-                   const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums, int sweeps,
-                   bool skipIdle) {
+                   const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
+                   int sweeps, bool skipIdle) {
     // A point whose last solve changed neither its sums nor its bodies, and whose bodies nothing
     // has changed since, is skipped: the kernels are pure, so solving it again would change nothing
     // again (a separated point with zero sums, one that sticks at its target). The sweeps give
@@ -135,7 +135,8 @@ void PhysicsEngine::keepRestingContacts() {
         if (found[m] >= 0 && contacts_[found[m]].depth >= kContactSlop) continue;
         // A contact of a sphere has one point, any contact at most kMaxContactPoints: one that has
         // them all already is whole, and looking again would find no more.
-        const int whole = bodies_[e.a].shape == Shape::Sphere || bodies_[e.b].shape == Shape::Sphere ? 1 : kMaxContactPoints;
+        const bool sphere = bodies_[e.a].shape == Shape::Sphere || bodies_[e.b].shape == Shape::Sphere;
+        const int whole = sphere ? 1 : kMaxContactPoints;
         if (found[m] >= 0 && contacts_[found[m]].pointCount >= whole) continue;
         // b moved towards a along last step's normal (it points from a to b).
         std::optional<Contact> near = collideShifted(bodies_, e.a, e.b, -kContactSlop * e.normal);

@@ -202,8 +202,8 @@ TEST(Contacts, FrictionStageOnOneThreadAndTwoGivesTheSameStateBitForBit) {
         for (int i = 0; i < 2400; ++i) {
             const Vec3 at(1.2 * (i % 15), 1.0 + 1.2 * (i / 225), 1.2 * ((i / 15) % 15) + 0.01 * (i % 7));
             const std::string name = "b" + std::to_string(i);
-            Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(Quat(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized())))
-                                : sphere(name, 0.5, 1.0);
+            const Quat turn(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized()));
+            Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
             e.add(b.at(at).bouncy(0.0).rough(0.6, 0.5));
         }
         for (int s = 0; s < 90; ++s) e.step();  // 1.5 s: the lower layers have landed and rest
@@ -231,13 +231,15 @@ TEST(Contacts, FrictionSweepsSkipOnlyPointsThatWouldNotChange) {
     for (int i = 0; i < 150; ++i) {
         const Vec3 at(1.2 * (i % 5), 1.0 + 1.2 * (i / 25), 1.2 * ((i / 5) % 5) + 0.01 * (i % 7));
         const std::string name = "b" + std::to_string(i);
-        Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(Quat(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized())))
-                            : sphere(name, 0.5, 1.0);
+        const Quat turn(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized()));
+        Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
         e.add(b.at(at).bouncy(0.0).rough(0.6, 0.5));
     }
     for (int s = 0; s < 100; ++s) e.step();
     std::vector<Body> bodies = e.bodies();
-    for (Body& b : bodies) b.velocity += Vec3(0.0, -9.81 / 60.0, 0.0) * (b.isStatic() ? 0.0 : 1.0);  // the next step's gravity
+    for (Body& b : bodies) {
+        if (!b.isStatic()) b.velocity += e.gravity() * e.timeStep();  // the next step's gravity: contacts press
+    }
     std::vector<Contact> contacts;
     std::vector<std::size_t> first{0};
     for (std::size_t i = 0; i < bodies.size(); ++i) {

@@ -64,8 +64,8 @@ void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const P
 /// changed since, is not solved again: the kernels are pure, so that solve would change nothing.
 /// The state is the same, to the bit, as without.
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
-                   const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums, int sweeps,
-                   bool skipIdle = true);
+                   const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
+                   int sweeps, bool skipIdle = true);
 
 /// Last step's contact points and their sums, for warm starting (kept by the engine).
 struct ContactMemory {
