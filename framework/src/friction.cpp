@@ -85,11 +85,9 @@ std::optional<Contact> collideShifted(std::vector<Body>& bodies, std::size_t i, 
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                    const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
                    int sweeps, bool skipIdle) {
-    // A point whose last solve changed neither its sums nor its bodies, and whose bodies nothing
-    // has changed since, is skipped: the kernels are pure, so solving it again would change nothing
-    // again (a separated point with zero sums, one that sticks at its target). The sweeps give
-    // the state of solving every point, to the bit. Per body, the count of solves at its last
-    // change; per point, the count at its last solve, and whether that solve changed nothing.
+    // Skipped (see friction.h): a point that has parted with zero sums, one that sticks at its
+    // target. Per body, the count of solves at its last change; per point, the count at its last
+    // solve, and whether that solve changed nothing.
     std::vector<std::size_t> changedAt(bodies.size(), 0), solvedAt(sums.size(), 0);
     std::vector<char> idle(sums.size(), 0);
     std::size_t solves = 0;
@@ -116,7 +114,7 @@ void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::
                 idle[i] = !aChanged && !bChanged && s.normal == sumWas.normal && s.tangent == sumWas.tangent;
             }
         }
-}
+    }
 }
 
 void PhysicsEngine::keepRestingContacts() {
