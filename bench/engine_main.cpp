@@ -132,8 +132,8 @@ int main(int argc, char** argv) {
                   << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
                   << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling; "
                   << "this engine's broad phase on " << threads << (threads == 1 ? " thread\n" : " threads\n")
-                  << "this engine's heap runs without its friction stage (worksheet 7's solver is not yet fast): "
-                  << "it spreads where Bullet's (friction " << gpl::bench::kFriction << ") stands\n\n";
+                  << "friction " << gpl::bench::kFriction << " and restitution 0 in both engines (this engine: "
+                  << "worksheet 7's friction stage)\n\n";
         const std::vector<std::size_t> widths{8, 8, 7, 12, 12, 9, 12, 12, 10, 12};
         const char* header[] = {"N", "engine", "steps", "median ms", "p90 ms", "ours/B", "contacts", "deepest m",
                                 "height m", "KE end J"};

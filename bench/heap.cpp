@@ -142,18 +142,18 @@ HeapRun runOurs(HeapShape shape, std::size_t n, double seconds, int threads) {
     PhysicsEngine e;
     e.setThreads(threads);
     StageSet stages{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection, Stage::Interpenetration,
-                    Stage::CollisionImpulses};
+                    Stage::CollisionImpulses, Stage::Friction};
     if (shape == HeapShape::Boxes) stages.insert(Stage::Rotation);
     e.setRequiredStages(stages);
     e.setTimeStep(kTimeStep);
     e.setContactIterations(kIterations);
-    e.add(plane("ground", Vec3::UnitY()));
+    e.add(plane("ground", Vec3::UnitY()).rough(kFriction, kFriction));
     const std::vector<Vec3> at = heapPositions(n);
     const std::vector<Quat> turn = heapOrientations(n);
     for (std::size_t i = 0; i < n; ++i) {
         const std::string name = "body" + std::to_string(i);
         Body b = shape == HeapShape::Spheres ? sphere(name, kRadius, kMass) : box(name, Vec3::Constant(kHalfSide), kMass).rotated(turn[i]);
-        e.add(b.at(at[i]).bouncy(0.0));
+        e.add(b.at(at[i]).bouncy(0.0).rough(kFriction, kFriction));
     }
     HeapRun run;
     run.engine = "ours";

@@ -1,7 +1,7 @@
 // The heap both engines of `./lab bench engine` simulate: N spheres (radius 0.5 m, 1 kg) or N cubes
 // (half side 0.3 m, 1 kg, each turned at random) on a jittered cubic lattice of spacing 1.2 m (fixed
-// seed), dropped on a static plane y = 0, restitution 0, friction 0.5 where the engine has friction,
-// fixed steps of 1/60 s, 10 solver iterations.
+// seed), dropped on a static plane y = 0, restitution 0, friction 0.5 in both (this engine: the
+// friction stage of worksheet 7), fixed steps of 1/60 s, 10 solver iterations.
 #pragma once
 
 #include <cstddef>

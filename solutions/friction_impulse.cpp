@@ -26,6 +26,8 @@ void applyFrictionImpulse([[maybe_unused]] const Contact& contact, [[maybe_unuse
                           [[maybe_unused]] const Mat3& invIa, [[maybe_unused]] const Mat3& invIb,
                           [[maybe_unused]] Body& a, [[maybe_unused]] Body& b, [[maybe_unused]] PointImpulse& sum) {
     // BEGIN SOLUTION
+    // No normal impulse and no friction sum: the cone is a point and the sum stays zero.
+    if (sum.normal == 0.0 && sum.tangent.isZero(0.0)) return;
     const Vec3& n = contact.normal;
     const Vec3& p = contact.points[point];
     const Vec3 ra = p - a.position, rb = p - b.position;  // m

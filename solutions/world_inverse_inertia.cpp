@@ -13,6 +13,11 @@ namespace gpl {
 Mat3 worldInverseInertia([[maybe_unused]] const Body& body) {
     // BEGIN SOLUTION
     if (body.isStatic()) return Mat3::Zero();
+    // The same about every axis (a sphere, a cube): R (c 1) R^T = c 1, no rotation to build.
+    const Mat3& inv = body.invInertia;
+    if (inv(0, 1) == 0.0 && inv(0, 2) == 0.0 && inv(1, 2) == 0.0 && inv(1, 0) == 0.0 && inv(2, 0) == 0.0 &&
+        inv(2, 1) == 0.0 && inv(0, 0) == inv(1, 1) && inv(0, 0) == inv(2, 2))
+        return inv;
     const Mat3 r = body.orientation.toRotationMatrix();
     return r * body.invInertia * r.transpose();
     // ELSE STUB

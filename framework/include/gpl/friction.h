@@ -7,7 +7,7 @@
 //   applyFrictionImpulse()  the friction impulse, summed likewise, kept in the Coulomb cone
 //   applyWarmStart()        last step's sums applied again before the first sweep
 // All three act on the bodies through applyImpulseAtPoint() (worksheet 6).
-// Framework (friction.cpp): the friction stage, solveContacts().
+// Framework (friction.cpp): the friction stage, solveContacts(), and its sweeps, sweepContacts().
 #pragma once
 
 #include <array>
@@ -56,6 +56,16 @@ void applyFrictionImpulse(const Contact& contact, int point, const Mat3& invIa, 
 /// Student hook (worksheet 7), solutions/warm_start.cpp: the sums of last step at the point, applied
 /// to the bodies again.
 void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const PointImpulse& sum);
+
+/// Framework (friction.cpp): `sweeps` sweeps of applyNormalImpulse() then applyFrictionImpulse()
+/// over every point of `contacts`, in order; sums[first[c] + k] is point k of contact c, invI[i]
+/// worldInverseInertia() of bodies[i]. With skipIdle (what the friction stage does), a point whose
+/// last solve changed neither its sums nor its bodies' velocities, and whose bodies no solve has
+/// changed since, is not solved again: the kernels are pure, so that solve would change nothing.
+/// The state is the same, to the bit, as without.
+void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
+                   const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
+                   int sweeps, bool skipIdle = true);
 
 /// Last step's contact points and their sums, for warm starting (kept by the engine).
 struct ContactMemory {
