@@ -9,8 +9,8 @@
 namespace gpl {
 namespace {
 
-const StageSet kImpulses{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
-                         Stage::CollisionImpulses, Stage::Interpenetration};
+const StageSet kBoxImpulses{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                            Stage::CollisionImpulses, Stage::Interpenetration};
 
 Quat turn(double radians, const Vec3& axis) { return Quat(Eigen::AngleAxisd(radians, axis.normalized())); }
 
@@ -56,11 +56,11 @@ void addWorksheet5Scenes(SceneRegistry& r) {
     // The ball knocks the target box off along the frictionless floor: the view frames the landings,
     // the throw and the first 4 s.
     r.add({"falling-boxes", "F7", "Boxes land flat, on an edge and on a corner; a ball is thrown at a box.", 5,
-           kImpulses, kDefaultTimeStep, fallingBoxes, Integrator::SemiImplicitEuler, Vec3(0.8, 1.2, 0.0), 10.0, 4.0});
+           kBoxImpulses, kDefaultTimeStep, fallingBoxes, Integrator::SemiImplicitEuler, Vec3(0.8, 1.2, 0.0), 10.0, 4.0});
     // Without friction (worksheet 7) the bricks the ball knocks over slide on for ever: the view
     // frames the stack, the wall and the first 3 s.
     r.add({"stack-and-wall", "F8", "A stack of five boxes stands; a heavy ball slides into a wall of boxes.", 5,
-           kImpulses, kDefaultTimeStep, stackAndWall, Integrator::SemiImplicitEuler, Vec3(0.0, 1.0, 0.0), 10.0, 3.0});
+           kBoxImpulses, kDefaultTimeStep, stackAndWall, Integrator::SemiImplicitEuler, Vec3(0.0, 1.0, 0.0), 10.0, 3.0});
 }
 
 }  // namespace gpl
