@@ -324,10 +324,10 @@ void App::runScript() {
             } else if (ok && what == "contact-iterations") {
                 session_.setContactIterations(std::atoi(value.c_str()));
             } else if (ok && what == "speed") {
-                // The panel's slider: simulated seconds per real second, 1/64 to 8.
+                // The panel's slider: simulated seconds per real second.
                 char* end = nullptr;
                 const double speed = std::strtod(value.c_str(), &end);
-                ok = *end == '\0' && speed >= 1.0 / 64.0 && speed <= 8.0;
+                ok = *end == '\0' && speed >= Session::kMinSpeed && speed <= Session::kMaxSpeed;
                 if (ok) session_.setSpeed(speed);
             } else if (ok && what == "stage") {
                 // The stage's name may have spaces: the last word is on or off.

@@ -87,7 +87,7 @@ void App::drawPanel() {
         ImGui::SameLine();
         if (ImGui::Button("reset")) session_.reset();
         float speed = static_cast<float>(session_.speed());
-        if (ImGui::SliderFloat("speed", &speed, 1.0f / 64.0f, 8.0f, "x%.3g", ImGuiSliderFlags_Logarithmic)) {
+        if (ImGui::SliderFloat("speed", &speed, float(Session::kMinSpeed), float(Session::kMaxSpeed), "x%.3g", ImGuiSliderFlags_Logarithmic)) {
             session_.setSpeed(speed);
         }
         double tick = session_.tick();

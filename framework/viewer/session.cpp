@@ -79,7 +79,7 @@ bool Session::stepBack() {
     return true;
 }
 
-void Session::setSpeed(double s) { speed_ = std::clamp(s, 1.0 / 64.0, 8.0); }
+void Session::setSpeed(double s) { speed_ = std::clamp(s, kMinSpeed, kMaxSpeed); }
 
 void Session::setTick(double tick) {
     engine_.setTimeStep(tick / substeps_);  // validates first

@@ -33,6 +33,8 @@ class Session {
 public:
     static constexpr std::size_t kHistoryBytes = 256u << 20;  ///< memory for the step-back history
     static constexpr int kMaxStepsPerFrame = 64;              ///< beyond this, time is dropped
+    static constexpr double kMinSpeed = 1.0 / 64.0;           ///< simulated seconds per real second
+    static constexpr double kMaxSpeed = 8.0;
 
     explicit Session(const Scene& scene);
 
@@ -57,7 +59,7 @@ public:
     bool stepBack();  ///< restores the state before the last tick; false when the history is empty
     void faster() { setSpeed(speed_ * 2.0); }
     void slower() { setSpeed(speed_ / 2.0); }
-    void setSpeed(double s);  ///< clamped to 1/64 .. 8
+    void setSpeed(double s);  ///< clamped to kMinSpeed .. kMaxSpeed
     double speed() const { return speed_; }
     /// One tick is `tick` seconds, split into `substeps` engine steps.
     void setTick(double tick);

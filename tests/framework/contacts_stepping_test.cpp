@@ -32,6 +32,19 @@ double largestOverlap(const PhysicsEngine& e) {
     return worst;
 }
 
+// A rough floor and `count` bodies over it on a lattice of spacing 1.2 m, `side` by `side` a layer
+// (jittered a little), every third a cube turned its own way, the others spheres of radius 0.5 m.
+void addRoughHeap(PhysicsEngine& e, int count, int side) {
+    e.add(plane("floor", Vec3::UnitY()).rough(0.5, 0.5));
+    for (int i = 0; i < count; ++i) {
+        const Vec3 at(1.2 * (i % side), 1.0 + 1.2 * (i / (side * side)), 1.2 * ((i / side) % side) + 0.01 * (i % 7));
+        const std::string name = "b" + std::to_string(i);
+        const Quat turn(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized()));
+        Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
+        e.add(b.at(at).bouncy(0.0).rough(0.6, 0.5));
+    }
+}
+
 TEST(Contacts, DetectionFillsTheFrameworkFields) {
     PhysicsEngine e;
     e.setRequiredStages({Stage::CollisionDetection});
@@ -198,14 +211,7 @@ TEST(Contacts, FrictionStageOnOneThreadAndTwoGivesTheSameStateBitForBit) {
         e.setRequiredStages(stages);
         e.setThreads(threads);
         e.setTimeStep(1.0 / 60.0);
-        e.add(plane("floor", Vec3::UnitY()).rough(0.5, 0.5));
-        for (int i = 0; i < 2400; ++i) {
-            const Vec3 at(1.2 * (i % 15), 1.0 + 1.2 * (i / 225), 1.2 * ((i / 15) % 15) + 0.01 * (i % 7));
-            const std::string name = "b" + std::to_string(i);
-            const Quat turn(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized()));
-            Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
-            e.add(b.at(at).bouncy(0.0).rough(0.6, 0.5));
-        }
+        addRoughHeap(e, 2400, 15);
         for (int s = 0; s < 90; ++s) e.step();  // 1.5 s: the lower layers have landed and rest
         return e.state();
     };
@@ -227,14 +233,7 @@ TEST(Contacts, FrictionSweepsSkipOnlyPointsThatWouldNotChange) {
     e.setRequiredStages({Stage::ConstantAcceleration, Stage::Integration, Stage::Rotation, Stage::CollisionDetection,
                          Stage::Interpenetration, Stage::Friction});
     e.setTimeStep(1.0 / 60.0);
-    e.add(plane("floor", Vec3::UnitY()).rough(0.5, 0.5));
-    for (int i = 0; i < 150; ++i) {
-        const Vec3 at(1.2 * (i % 5), 1.0 + 1.2 * (i / 25), 1.2 * ((i / 5) % 5) + 0.01 * (i % 7));
-        const std::string name = "b" + std::to_string(i);
-        const Quat turn(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized()));
-        Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
-        e.add(b.at(at).bouncy(0.0).rough(0.6, 0.5));
-    }
+    addRoughHeap(e, 150, 5);
     for (int s = 0; s < 100; ++s) e.step();
     std::vector<Body> bodies = e.bodies();
     for (Body& b : bodies) {
