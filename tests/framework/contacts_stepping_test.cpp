@@ -36,11 +36,11 @@ double largestOverlap(const PhysicsEngine& e) {
 // (jittered a little), every third a cube turned its own way, the others spheres of radius 0.5 m.
 void addRoughHeap(PhysicsEngine& e, int count, int side) {
     e.add(plane("floor", Vec3::UnitY()).rough(0.5, 0.5));
-    for (int i = 0; i < count; ++i) {
-        const Vec3 at(1.2 * (i % side), 1.0 + 1.2 * (i / (side * side)), 1.2 * ((i / side) % side) + 0.01 * (i % 7));
-        const std::string name = "b" + std::to_string(i);
-        const Quat turn(Eigen::AngleAxisd(0.1 * i, Vec3(1, 2, 3).normalized()));
-        Body b = i % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
+    for (int n = 0; n < count; ++n) {
+        const Vec3 at(1.2 * (n % side), 1.0 + 1.2 * (n / (side * side)), 1.2 * ((n / side) % side) + 0.01 * (n % 7));
+        const std::string name = "b" + std::to_string(n);
+        const Quat turn(Eigen::AngleAxisd(0.1 * n, Vec3(1, 2, 3).normalized()));
+        Body b = n % 3 == 0 ? box(name, Vec3::Constant(0.3), 1.0).rotated(turn) : sphere(name, 0.5, 1.0);
         e.add(b.at(at).bouncy(0.0).rough(0.6, 0.5));
     }
 }
