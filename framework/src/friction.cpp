@@ -35,18 +35,13 @@
 namespace gpl {
 namespace {
 
-bool pairBefore(const ContactMemory::Entry& e, std::size_t a, std::size_t b) {
-    return std::tie(e.a, e.b) < std::tie(a, b);
-}
-
 // Last step's entry of the pair (a, b), or nullptr.
 const ContactMemory::Entry* remembered(const ContactMemory& memory, std::size_t a, std::size_t b) {
-    const auto it = std::lower_bound(memory.entries.begin(), memory.entries.end(), std::pair{a, b},
-                                     [](const ContactMemory::Entry& e, const std::pair<std::size_t, std::size_t>& k) {
-                                         return pairBefore(e, k.first, k.second);
-                                     });
-    if (it == memory.entries.end() || it->a != a || it->b != b) return nullptr;
-    return &*it;
+    if (a + 1 >= memory.firstOf.size()) return nullptr;
+    for (std::size_t m = memory.firstOf[a]; m < memory.firstOf[a + 1]; ++m) {
+        if (memory.entries[m].b == b) return &memory.entries[m];
+    }
+    return nullptr;
 }
 
 // Last step's sums of the point nearest to p (within kWarmStartDistance), with the friction sum
@@ -82,44 +77,10 @@ std::optional<Contact> collideShifted(std::vector<Body>& bodies, std::size_t i, 
 
 }  // namespace
 
-void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
-                   const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
-                   int sweeps, bool skipIdle) {
-    // Skipped (see friction.h): a point that has parted with zero sums, one that sticks at its
-    // target. Per body, the count of solves at its last change; per point, the count at its last
-    // solve, and whether that solve changed nothing.
-    std::vector<std::size_t> changedAt(bodies.size(), 0), solvedAt(sums.size(), 0);
-    std::vector<char> idle(sums.size(), 0);
-    std::size_t solves = 0;
-    for (int sweep = 0; sweep < sweeps; ++sweep) {
-        for (std::size_t c = 0; c < contacts.size(); ++c) {
-            const Contact& con = contacts[c];
-            Body& a = bodies[con.a];
-            Body& b = bodies[con.b];
-            const Mat3& invIa = invI[con.a];
-            const Mat3& invIb = invI[con.b];
-            for (int k = 0; k < con.pointCount; ++k) {
-                const std::size_t i = first[c] + k;
-                if (skipIdle && idle[i] && changedAt[con.a] < solvedAt[i] && changedAt[con.b] < solvedAt[i]) continue;
-                PointImpulse& s = sums[i];
-                const PointImpulse sumWas = s;
-                const std::pair<Vec3, Vec3> aWas{a.velocity, a.angularVelocity}, bWas{b.velocity, b.angularVelocity};
-                applyNormalImpulse(con, k, invIa, invIb, a, b, s);
-                applyFrictionImpulse(con, k, invIa, invIb, a, b, s);
-                solvedAt[i] = ++solves;
-                const bool aChanged = a.velocity != aWas.first || a.angularVelocity != aWas.second;
-                const bool bChanged = b.velocity != bWas.first || b.angularVelocity != bWas.second;
-                if (aChanged) changedAt[con.a] = solves;
-                if (bChanged) changedAt[con.b] = solves;
-                idle[i] = !aChanged && !bChanged && s.normal == sumWas.normal && s.tangent == sumWas.tangent;
-            }
-        }
-    }
-}
-
 void PhysicsEngine::keepRestingContacts() {
     // Last step's pairs: is each still in contact, and how deep?
-    std::vector<int> found(contactMemory_.entries.size(), -1);
+    std::vector<int>& found = found_;
+    found.assign(contactMemory_.entries.size(), -1);
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
         const ContactMemory::Entry* old = remembered(contactMemory_, contacts_[c].a, contacts_[c].b);
         if (old != nullptr) {
@@ -150,6 +111,8 @@ void PhysicsEngine::keepRestingContacts() {
 }
 
 void PhysicsEngine::solveContacts() {
+    const bool twoThreads = threads() > 1 && sums_.size() >= ContactSweeps::kSplitFrom;  // as last step
+    if (twoThreads) second_.wake();
     keepRestingContacts();
     before_.resize(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) before_[i] = {bodies_[i].velocity, bodies_[i].angularVelocity};
@@ -157,7 +120,8 @@ void PhysicsEngine::solveContacts() {
     for (std::size_t i = 0; i < bodies_.size(); ++i) worldInvInertia_[i] = worldInverseInertia(bodies_[i]);
 
     // Sums per point: contact c's points start at first[c].
-    std::vector<std::size_t> first(contacts_.size() + 1, 0);
+    std::vector<std::size_t>& first = firstPoint_;
+    first.assign(contacts_.size() + 1, 0);
     for (std::size_t c = 0; c < contacts_.size(); ++c) first[c + 1] = first[c] + contacts_[c].pointCount;
     sums_.assign(first.back(), PointImpulse{});
 
@@ -182,7 +146,8 @@ void PhysicsEngine::solveContacts() {
         }
     }
 
-    sweepContacts(contacts_, first, worldInvInertia_, bodies_, sums_, contactIterations_);
+    sweeps_.run(contacts_, first, worldInvInertia_, bodies_, sums_, contactIterations_, true,
+                threads() > 1 ? &second_ : nullptr);
 
     // The step's positions and orientations with the velocities after the impulses; along the
     // contact normals interpenetration has moved the bodies already.
@@ -211,29 +176,31 @@ void PhysicsEngine::solveContacts() {
     }
 
     // Keep the sums for the next step, one entry per pair (the first contact of a pair that
-    // interpenetration found twice).
-    // Sorted by pair: the indices are sorted, not the entries (300 bytes each; the contacts come
-    // nearly in pair order from the broad phase).
-    std::vector<std::size_t> order(contacts_.size());
+    // interpenetration found twice), sorted by pair. The indices are sorted, not the contacts
+    // (300 bytes each; they come nearly in pair order from the broad phase).
+    std::vector<std::size_t>& order = order_;
+    order.resize(contacts_.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [this](std::size_t x, std::size_t y) {
         return std::tie(contacts_[x].a, contacts_[x].b) < std::tie(contacts_[y].a, contacts_[y].b);
     });
-    contactMemory_.entries.clear();
-    contactMemory_.entries.reserve(contacts_.size());
-    for (const std::size_t c : order) {
-        const Contact& con = contacts_[c];
-        ContactMemory::Entry e;
+    ContactMemory& memory = contactMemory_;
+    memory.entries.resize(contacts_.size());
+    memory.firstOf.assign(bodies_.size() + 1, 0);
+    for (std::size_t m = 0; m < order.size(); ++m) {
+        const Contact& con = contacts_[order[m]];
+        ContactMemory::Entry& e = memory.entries[m];
         e.a = con.a;
         e.b = con.b;
         e.normal = con.normal;
         e.pointCount = con.pointCount;
         for (int k = 0; k < con.pointCount; ++k) {
             e.points[k] = con.points[k];
-            e.sums[k] = sums_[first[c] + k];
+            e.sums[k] = sums_[first[order[m]] + k];
         }
-        contactMemory_.entries.push_back(e);
+        ++memory.firstOf[con.a + 1];
     }
+    for (std::size_t i = 0; i < bodies_.size(); ++i) memory.firstOf[i + 1] += memory.firstOf[i];
     recordOpenKernels();
 }
 

@@ -254,6 +254,11 @@ private:
         int count = 0;
     };
     std::vector<Normals> normals_;
+    ContactSweeps sweeps_;                 ///< the friction stage's sweeps and their buffers
+    SecondThread second_;                  ///< the friction stage's second thread (threads() == 2)
+    std::vector<std::size_t> firstPoint_;  ///< the friction stage's, per contact: its first point's index
+    std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
+    std::vector<int> found_;               ///< the friction stage's, per remembered pair: its contact now
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().

@@ -12,10 +12,12 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "gpl/body.h"
 #include "gpl/contact.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 
@@ -57,12 +59,63 @@ void applyFrictionImpulse(const Contact& contact, int point, const Mat3& invIa, 
 /// to the bodies again.
 void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const PointImpulse& sum);
 
-/// Framework (friction.cpp): `sweeps` sweeps of applyNormalImpulse() then applyFrictionImpulse()
-/// over every point of `contacts`, in order; sums[first[c] + k] is point k of contact c, invI[i]
-/// worldInverseInertia() of bodies[i]. With skipIdle (what the friction stage does), a point whose
-/// last solve changed neither its sums nor its bodies' velocities, and whose bodies no solve has
-/// changed since, is not solved again: the kernels are pure, so that solve would change nothing.
-/// The state is the same, to the bit, as without.
+/// Framework (contact_sweeps.cpp): `sweeps` sweeps of applyNormalImpulse() then
+/// applyFrictionImpulse() over every point of `contacts`; sums[first[c] + k] is point k of contact c,
+/// invI[i] worldInverseInertia() of bodies[i]. Below kSplitFrom points, in the order of `contacts`;
+/// from there on, each sweep solves two halves of the contacts (cut at the median of their movable
+/// bodies, where they spread most), each in order, and then the contacts across the cut. With
+/// `second`, the two halves are solved at once; the result is the same to the bit. With skipIdle
+/// (what the friction stage does), a point whose last solve changed neither its sums nor its bodies'
+/// velocities, and whose bodies no solve has changed since, is not solved again: the kernels are
+/// pure, so that solve would change nothing. The state is the same, to the bit, as without.
+class ContactSweeps {
+public:
+    /// Points from which a stage is cut in halves: below, the halves would be too small to gain
+    /// from a second thread, and small scenes keep the plain order of their contacts.
+    static constexpr std::size_t kSplitFrom = 512;
+
+    void run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
+             const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums, int sweeps,
+             bool skipIdle = true, SecondThread* second = nullptr);
+
+private:
+    static constexpr int kLeft = 0, kRight = 1, kMiddle = 2, kNone = 3;
+    /// One contact as a part solves it, everything it needs found beforehand.
+    struct Job {
+        const Contact* contact;
+        Body* a;
+        Body* b;
+        const Mat3* invIa;
+        const Mat3* invIb;
+        std::uint32_t* versionA;  ///< the bodies' versions (changes counted)
+        std::uint32_t* versionB;
+        std::size_t point;  ///< its first point in the part's arrays (the stage's: `global`)
+        std::size_t global;
+    };
+    /// What one part solves, with its own arrays (a second thread writes nothing the first reads).
+    struct Part {
+        std::vector<Job> jobs;
+        std::vector<PointImpulse> sums;         ///< per point, copied in and out of the stage's
+        std::vector<std::uint32_t> seenA, seenB;  ///< per point: its bodies' versions at its last solve
+        std::vector<char> idle;                 ///< per point: its last solve changed nothing
+    };
+    std::array<Part, 3> parts_;                 ///< left half, right half, middle
+    std::vector<int> side_;                     ///< per body: kLeft, kRight, or kNone (static)
+    std::vector<std::size_t> local_;            ///< per body: its place in its side's versions (or statics_)
+    std::array<std::vector<std::uint32_t>, 2> versions_;  ///< per side, per movable body
+    std::vector<std::size_t> movable_;          ///< the movable bodies in contact
+    std::vector<double> cut_;                   ///< their coordinates along the cut's axis
+    std::vector<std::size_t> statics_;          ///< the static bodies in contact
+    std::array<std::vector<Body>, 2> copies_;   ///< per half, its copies of statics_
+    std::array<std::vector<std::uint32_t>, 2> staticVersions_;  ///< per half, per copy
+
+    /// Sides, versions and the parts' jobs for this stage.
+    void split(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
+               const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums);
+    static void solve(Part& part, bool skipIdle);
+    void mergeStatics(std::vector<Body>& bodies);
+};
+/// ContactSweeps().run(...) on one thread (for tests).
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                    const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
                    int sweeps, bool skipIdle = true);
@@ -77,6 +130,12 @@ struct ContactMemory {
         std::array<PointImpulse, kMaxContactPoints> sums{};
     };
     std::vector<Entry> entries;  ///< sorted by (a, b)
+    /// The entries of pairs whose first body is a: [firstOf[a], firstOf[a + 1]).
+    std::vector<std::size_t> firstOf;
+    void clear() {
+        entries.clear();
+        firstOf.clear();
+    }
 };
 
 }  // namespace gpl
