@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <future>
 #include <thread>
 
 namespace gpl {
@@ -53,7 +52,9 @@ std::uint64_t packCell(long x, long y, long z) {
 
 }  // namespace
 
-const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin) {
+const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
+                                                   SecondThread* second) {
+    second_ = threads_ > 1 ? second : nullptr;
     pairs_.clear();
     entries_.clear();
     filed_.clear();
@@ -119,8 +120,21 @@ void BroadPhase::sweep() {
     // The boxes packed in that order, for the inner loop.
     swept_.clear();
     for (const std::uint32_t k : order_) swept_.push_back({entries_[k].box, entries_[k].index, entries_[k].isStatic});
+    if (second_ != nullptr && swept_.size() >= kTwoThreadsFrom) {
+        // Two halves of the boxes, each tested against those after it; sortPairs() orders the pairs.
+        const std::size_t half = swept_.size() / 2;
+        secondHalf_.clear();
+        second_->run(true, [this, axis, half] { sweepFrom(axis, 0, half, pairs_); },
+                    [this, axis, half] { sweepFrom(axis, half, swept_.size(), secondHalf_); });
+        pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
+    } else {
+        sweepFrom(axis, 0, swept_.size(), pairs_);
+    }
+}
+
+void BroadPhase::sweepFrom(int axis, std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
     const int u = (axis + 1) % 3, w = (axis + 2) % 3;  // the other two axes
-    for (std::size_t k = 0; k < swept_.size(); ++k) {
+    for (std::size_t k = first; k < last; ++k) {
         const Swept& p = swept_[k];
         for (std::size_t m = k + 1; m < swept_.size(); ++m) {
             const Swept& q = swept_[m];
@@ -130,7 +144,7 @@ void BroadPhase::sweep() {
                 p.box.min[w] > q.box.max[w] || (p.isStatic && q.isStatic)) {
                 continue;
             }
-            pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+            pairs.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
         }
     }
 }
@@ -189,14 +203,13 @@ void BroadPhase::grid() {
     }
     std::sort(filed_.begin(), filed_.end());
 
-    if (threads_ > 1) {
+    if (second_ != nullptr) {
         // Two halves, each starting at the beginning of a cell.
         std::size_t half = filed_.size() / 2;
         while (half > 0 && half < filed_.size() && filed_[half].cell == filed_[half - 1].cell) ++half;
         secondHalf_.clear();
-        auto second = std::async(std::launch::async, [this, half] { testCells(half, filed_.size(), secondHalf_); });
-        testCells(0, half, pairs_);
-        second.get();
+        second_->run(true, [this, half] { testCells(0, half, pairs_); },
+                    [this, half] { testCells(half, filed_.size(), secondHalf_); });
         pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
     } else {
         testCells(0, filed_.size(), pairs_);

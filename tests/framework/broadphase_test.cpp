@@ -46,12 +46,15 @@ TEST(BroadPhase, SamePairsAsTestingEveryPair) {
     EXPECT_GT(pairsSeen, 1000u);  // the scenes are dense enough to test something
 }
 
-TEST(BroadPhase, TheGridOnOneThreadAndTwoFindsTheSamePairs) {
-    // Scenes large enough for the grid: the same pairs with one thread and two as testing every
-    // pair. The third holds a body far larger than the cells and one far outside the grid's range,
-    // which are tested against every other body.
-    for (unsigned seed = 1; seed <= 3; ++seed) {
-        std::vector<Body> bodies = randomScene(seed, static_cast<int>(BroadPhase::kGridFrom) + 500 * seed, 2, 30.0);
+TEST(BroadPhase, OneThreadAndTwoFindTheSamePairs) {
+    // Scenes for the sweep on two threads (kTwoThreadsFrom bodies) and for the grid: the same pairs
+    // with one thread and two as testing every pair. The grid's third scene holds a body far larger
+    // than the cells and one far outside the grid's range, which are tested against every other body.
+    SecondThread second;
+    const int sweep = static_cast<int>(BroadPhase::kTwoThreadsFrom) + 200, grid = static_cast<int>(BroadPhase::kGridFrom);
+    for (unsigned seed = 0; seed <= 3; ++seed) {
+        std::vector<Body> bodies = seed == 0 ? randomScene(seed, sweep, 2, 12.0)
+                                             : randomScene(seed, grid + 500 * static_cast<int>(seed), 2, 30.0);
         if (seed == 3) {
             bodies.push_back(box("slab", Vec3(40.0, 0.5, 40.0), 1.0).at(Vec3(15.0, 15.0, 15.0)).makeStatic());
             bodies.push_back(sphere("far", 1.0, 1.0).at(Vec3(1e9, 0.0, 0.0)));
@@ -62,8 +65,8 @@ TEST(BroadPhase, TheGridOnOneThreadAndTwoFindsTheSamePairs) {
         two.setThreads(2);
         const std::vector<BodyPair> expected = bruteForcePairs(bodies, 0.1);
         ASSERT_GT(expected.size(), bodies.size());  // dense: more pairs than bodies
-        EXPECT_EQ(one.findPairs(bodies, 0.1), expected) << "seed " << seed;
-        EXPECT_EQ(two.findPairs(bodies, 0.1), expected) << "seed " << seed;
+        EXPECT_EQ(one.findPairs(bodies, 0.1, &second), expected) << "seed " << seed;  // one thread: second unused
+        EXPECT_EQ(two.findPairs(bodies, 0.1, &second), expected) << "seed " << seed;
     }
 }
 

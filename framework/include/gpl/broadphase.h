@@ -15,8 +15,9 @@
 // extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
 // new overlaps among them while they move bodies apart.
 //
-// With two threads (setThreads(), the default where the machine has two cores) the grid's cells are
-// tested in two halves at once; the pairs are sorted after, so the result is the same.
+// With two threads (setThreads(), the default where the machine has two cores) the grid's cells, or
+// from kTwoThreadsFrom bodies on the sweep's boxes, are tested in two halves at once; the pairs are
+// sorted after, so the result is the same.
 #pragma once
 
 #include <cstddef>
@@ -24,6 +25,7 @@
 #include <vector>
 
 #include "gpl/body.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 
@@ -48,12 +50,18 @@ public:
     /// Pairs whose bounding volumes, grown by `margin` times each body's size, overlap (touching
     /// counts), sorted by (a, b). The buffers are kept between calls, so a step allocates nothing
     /// once the scene has settled.
-    const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0);
+    /// `second`: the thread that tests half the boxes with two threads (see setThreads()); without
+    /// one, this one tests them all.
+    const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0,
+                                           SecondThread* second = nullptr);
     /// Threads the grid's cell tests may use (1 or 2; more count as 2).
     void setThreads(int threads) { threads_ = threads < 2 ? 1 : 2; }
     int threads() const { return threads_; }
     /// From this many finite bodies on, the grid (below, sort and sweep: cheaper for a few thousand).
     static constexpr std::size_t kGridFrom = 2048;
+    /// From this many finite bodies on, the sweep uses both threads (below, handing work over
+    /// costs more than it saves).
+    static constexpr std::size_t kTwoThreadsFrom = 512;
 
 private:
     /// A body's box with the cells it covers, [cellLo, cellHi] on each axis.
@@ -87,10 +95,13 @@ private:
     std::vector<BodyPair> placed_;      ///< sortPairs()'s output, swapped with pairs_
     std::vector<std::size_t> firsts_;   ///< sortPairs()'s count, then position, per first body
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
+    SecondThread* second_ = nullptr;  ///< findPairs()'s, for the call
     int threads_ = defaultThreads();
 
     /// The pairs of entries_ by sort and sweep, or by the grid, into pairs_.
     void sweep();
+    /// The sweep's tests of the boxes swept_[first, last) against those after them, into pairs.
+    void sweepFrom(int axis, std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
     /// Sorts order_ by the boxes' lower ends along the axis, starting from the last call's order.
     void sortAlong(int axis);
     /// Sorts pairs_ by (a, b) for a scene of this many bodies.

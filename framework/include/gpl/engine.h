@@ -255,7 +255,7 @@ private:
     };
     std::vector<Normals> normals_;
     ContactSweeps sweeps_;                 ///< the friction stage's sweeps and their buffers
-    SecondThread second_;                  ///< the friction stage's second thread (threads() == 2)
+    SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
     std::vector<std::size_t> firstPoint_;  ///< the friction stage's, per contact: its first point's index
     std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
     std::vector<int> found_;               ///< the friction stage's, per remembered pair: its contact now

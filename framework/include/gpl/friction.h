@@ -17,6 +17,7 @@
 
 #include "gpl/body.h"
 #include "gpl/contact.h"
+#include "gpl/halves.h"
 #include "gpl/second_thread.h"
 
 namespace gpl {
@@ -62,12 +63,12 @@ void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const P
 /// Framework (contact_sweeps.cpp): `sweeps` sweeps of applyNormalImpulse() then
 /// applyFrictionImpulse() over every point of `contacts`; sums[first[c] + k] is point k of contact c,
 /// invI[i] worldInverseInertia() of bodies[i]. Below kSplitFrom points, in the order of `contacts`;
-/// from there on, each sweep solves two halves of the contacts (cut at the median of their movable
-/// bodies, where they spread most), each in order, and then the contacts across the cut. With
-/// `second`, the two halves are solved at once; the result is the same to the bit. With skipIdle
-/// (what the friction stage does), a point whose last solve changed neither its sums nor its bodies'
-/// velocities, and whose bodies no solve has changed since, is not solved again: the kernels are
-/// pure, so that solve would change nothing. The state is the same, to the bit, as without.
+/// from there on, each sweep solves the two Halves of the contacts, each in order, and then the
+/// contacts across the cut. With `second`, the two halves are solved at once; the result is the same
+/// to the bit. With skipIdle (what the friction stage does), a point whose last solve changed neither
+/// its sums nor its bodies' velocities, and whose bodies no solve has changed since, is not solved
+/// again: the kernels are pure, so that solve would change nothing. The state is the same, to the
+/// bit, as without.
 class ContactSweeps {
 public:
     /// Points from which a stage is cut in halves: below, the halves would be too small to gain
@@ -79,7 +80,6 @@ public:
              bool skipIdle = true, SecondThread* second = nullptr);
 
 private:
-    static constexpr int kLeft = 0, kRight = 1, kMiddle = 2, kNone = 3;
     /// One contact as a part solves it, everything it needs found beforehand.
     struct Job {
         const Contact* contact;
@@ -93,27 +93,19 @@ private:
         std::size_t global;
     };
     /// What one part solves, with its own arrays (a second thread writes nothing the first reads).
-    struct Part {
+    struct alignas(64) Part {  // on cache lines of its own: the two threads write their parts
         std::vector<Job> jobs;
-        std::vector<PointImpulse> sums;         ///< per point, copied in and out of the stage's
+        std::vector<PointImpulse> sums;           ///< per point, copied in and out of the stage's
         std::vector<std::uint32_t> seenA, seenB;  ///< per point: its bodies' versions at its last solve
-        std::vector<char> idle;                 ///< per point: its last solve changed nothing
+        std::vector<char> idle;                   ///< per point: its last solve changed nothing
     };
-    std::array<Part, 3> parts_;                 ///< left half, right half, middle
-    std::vector<int> side_;                     ///< per body: kLeft, kRight, or kNone (static)
-    std::vector<std::size_t> local_;            ///< per body: its place in its side's versions (or statics_)
-    std::array<std::vector<std::uint32_t>, 2> versions_;  ///< per side, per movable body
-    std::vector<std::size_t> movable_;          ///< the movable bodies in contact
-    std::vector<double> cut_;                   ///< their coordinates along the cut's axis
-    std::vector<std::size_t> statics_;          ///< the static bodies in contact
-    std::array<std::vector<Body>, 2> copies_;   ///< per half, its copies of statics_
-    std::array<std::vector<std::uint32_t>, 2> staticVersions_;  ///< per half, per copy
+    std::array<Part, 3> parts_;  ///< left half, right half, middle
+    Halves halves_;
 
-    /// Sides, versions and the parts' jobs for this stage.
+    /// The halves and the parts' jobs for this stage.
     void split(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums);
     static void solve(Part& part, bool skipIdle);
-    void mergeStatics(std::vector<Body>& bodies);
 };
 /// ContactSweeps().run(...) on one thread (for tests).
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,

@@ -1,0 +1,74 @@
+// Two halves of a large contact stage, for two threads (the friction stage's sweeps).
+//
+// The movable bodies of the stage's pairs are cut at their median along the axis on which they
+// spread most. A pair whose movable bodies lie on one side belongs to that half, one across the cut
+// to the middle. A stage solves the two halves (at once, on a SecondThread), then the middle. The
+// halves share no movable body, and each has its own copies of the static bodies: a correct kernel
+// never changes a static body (its inverse mass and inertia are zero), and what a wrong one does to a
+// copy reaches the body when the halves are done (mergeStatics()), as it would without the cut. One
+// half after the other gives the same result to the bit, and the cut depends on the bodies alone,
+// never on the threads.
+//
+// Each body also has a version that counts its changes, kept per side (a thread writes only its own
+// side's), for stages that skip what nothing has changed since it was last looked at.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gpl/body.h"
+
+namespace gpl {
+
+class Halves {
+public:
+    static constexpr int kLeft = 0, kRight = 1, kMiddle = 2;
+
+    /// Cuts the movable bodies of `pairs` (anything with body indices .a and .b).
+    template <class Pair>
+    void cut(const std::vector<Body>& bodies, const std::vector<Pair>& pairs) {
+        begin(bodies);
+        for (const Pair& p : pairs) see(bodies, p.a), see(bodies, p.b);
+        finish(bodies);
+        for (const Pair& p : pairs) registerStatics(p.a, p.b);
+        copyStatics(bodies);
+    }
+    /// No cut: every body on one side, every pair in the middle (a small stage).
+    void whole(std::size_t bodies);
+
+    /// The part of a pair of bodies: kLeft, kRight or kMiddle.
+    int part(std::size_t a, std::size_t b) const;
+    /// Body i as part `part` sees it: a static body's copy in a half, otherwise the body.
+    Body& body(int part, std::size_t i, std::vector<Body>& bodies);
+    /// Body i's version as part `part` sees it (its copy's for a static body in a half).
+    std::uint32_t& version(int part, std::size_t i);
+    /// After the halves: what they did to their copies of the static bodies reaches the bodies, and
+    /// the copies start again from the bodies.
+    void mergeStatics(std::vector<Body>& bodies);
+    bool cutInTwo() const { return cut_; }
+
+private:
+    static constexpr int kNone = 3;  ///< a static body's side (or a body of no pair)
+    bool cut_ = false;
+    /// What version() gives for a body of no side in the middle, where no pair has one (a pair of a
+    /// static body belongs to its other body's half): never compared, but never out of range.
+    std::uint32_t uncounted_ = 0;
+    std::vector<int> side_;                     ///< per body: kLeft, kRight, or kNone (static)
+    std::vector<std::size_t> local_;            ///< per body: its place in its side's versions (or statics_)
+    std::array<std::vector<std::uint32_t>, 2> versions_;  ///< per side, per movable body
+    std::vector<std::size_t> movable_;          ///< the movable bodies of the pairs
+    std::vector<double> along_;                 ///< their coordinates along the cut's axis
+    std::vector<std::size_t> statics_;          ///< the static bodies of the halves' pairs
+    std::array<std::vector<Body>, 2> copies_;   ///< per half, its copies of statics_
+    std::array<std::vector<std::uint32_t>, 2> staticVersions_;  ///< per half, per copy
+
+    void begin(const std::vector<Body>& bodies);
+    void see(const std::vector<Body>& bodies, std::size_t i);
+    void finish(const std::vector<Body>& bodies);
+    void registerStatics(std::size_t a, std::size_t b);
+    void copyStatics(const std::vector<Body>& bodies);
+};
+
+}  // namespace gpl
