@@ -41,8 +41,9 @@ void applyFrictionImpulse([[maybe_unused]] const Contact& contact, [[maybe_unuse
         const double wt = b.invMass + a.invMass + spin.dot(t);  // 1/kg
         if (wt > 0.0) total -= (slipSpeed / wt) * t;
     }
-    const double size = total.norm();
-    if (size > contact.staticFriction * sum.normal) total *= contact.friction * sum.normal / size;  // slides
+    // Sticks while |J| <= mu_s j_n, compared squared: a point that sticks takes no square root.
+    const double limit = contact.staticFriction * sum.normal;
+    if (total.squaredNorm() > limit * limit) total *= contact.friction * sum.normal / total.norm();  // slides
     applyImpulseAtPoint(a, b, p, total - sum.tangent);
     sum.tangent = total;
     // ELSE STUB

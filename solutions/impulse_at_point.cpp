@@ -18,10 +18,15 @@ namespace gpl {
 void applyImpulseAtPoint([[maybe_unused]] Body& a, [[maybe_unused]] Body& b, [[maybe_unused]] const Vec3& point,
                          [[maybe_unused]] const Vec3& impulse) {
     // BEGIN SOLUTION
-    a.velocity -= a.invMass * impulse;
-    a.angularVelocity -= worldInverseInertia(a) * (point - a.position).cross(impulse);
-    b.velocity += b.invMass * impulse;
-    b.angularVelocity += worldInverseInertia(b) * (point - b.position).cross(impulse);
+    // A static body never moves (its inverse mass and inertia are zero): nothing to add to it.
+    if (!a.isStatic()) {
+        a.velocity -= a.invMass * impulse;
+        a.angularVelocity -= worldInverseInertia(a) * (point - a.position).cross(impulse);
+    }
+    if (!b.isStatic()) {
+        b.velocity += b.invMass * impulse;
+        b.angularVelocity += worldInverseInertia(b) * (point - b.position).cross(impulse);
+    }
     // ELSE STUB
     // kernelNotImplemented("applyImpulseAtPoint()");
     // END SOLUTION
