@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "command_line.h"
@@ -96,6 +98,42 @@ void integrationAlone(std::size_t n, std::size_t steps, std::ostream& out) {
         << " ns per body and step\n";
 }
 
+// What a second thread can give on this machine: two loops run one after the other on one thread,
+// then at once on two, for a loop bound by the latency of its arithmetic (a chain of square roots)
+// and one bound by the core's arithmetic units (eight independent multiply-add chains). Two
+// processors that are the two hardware threads of one core double the first and not the second.
+void secondThreadGain(std::ostream& out) {
+    const auto latency = [] {
+        double s = 1.0;
+        for (int i = 0; i < 20000000; ++i) s = std::sqrt(s + 1.0);
+        return s;
+    };
+    const auto throughput = [] {
+        double a[8] = {1, 1, 1, 1, 1, 1, 1, 1};
+        for (int i = 0; i < 40000000; ++i) {
+            for (int k = 0; k < 8; ++k) a[k] = a[k] * (1.0 + 1e-9 * k) + 1e-9;
+        }
+        return a[0] + a[7];
+    };
+    const auto gain = [](const std::function<double()>& loop) {
+        volatile double sink = 0.0;
+        auto start = std::chrono::steady_clock::now();
+        sink = loop() + loop();
+        const double one = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        start = std::chrono::steady_clock::now();
+        double other = 0.0;
+        std::thread second([&] { other = loop(); });
+        sink = loop();
+        second.join();
+        sink = sink + other;
+        const double two = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return one / two;
+    };
+    out << "\na second thread on this machine (two loops on one thread, then at once on two): "
+        << fixed(gain(latency), 2) << "x as fast for a chain of square roots, " << fixed(gain(throughput), 2)
+        << "x for eight independent multiply-add chains\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -111,7 +149,7 @@ int main(int argc, char** argv) {
         ->check(gpl::cli::wholeNumber(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");
-    app.add_option("--threads", threads, "threads of this engine's broad phase (1 or 2; default: 2 on two cores)")
+    app.add_option("--threads", threads, "threads of this engine's broad phase and friction stage (1 or 2; default: 2 on two cores)")
         ->check(gpl::cli::wholeNumber(1, 2));
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
@@ -131,7 +169,8 @@ int main(int argc, char** argv) {
         std::cout << (boxes ? "heap of cubes (half side 0.3 m, 1 kg, turned at random" : "heap of spheres (r = 0.5 m, 1 kg")
                   << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
                   << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling; "
-                  << "this engine's broad phase on " << threads << (threads == 1 ? " thread\n" : " threads\n")
+                  << "this engine's broad phase and friction stage on " << threads
+                  << (threads == 1 ? " thread\n" : " threads\n")
                   << "friction " << gpl::bench::kFriction << " and restitution 0 in both engines (this engine: "
                   << "worksheet 7's friction stage)\n\n";
         const std::vector<std::size_t> widths{8, 8, 7, 12, 12, 9, 12, 12, 10, 12};
@@ -171,6 +210,7 @@ int main(int argc, char** argv) {
         if (bullet) std::cout << ", Bullet " << fixed(scalingExponent(theirs), 2);
         std::cout << '\n';
         if (!boxes) integrationAlone(1000, 2000, std::cout);
+        if (threads > 1) secondThreadGain(std::cout);
         std::cout << "\nwrote";
         for (const std::string& f : output.written()) std::cout << ' ' << out << '/' << f;
         std::cout << '\n';

@@ -8,10 +8,11 @@
 //   3. warm starts: a point of the same pair of bodies as one of last step's, within
 //      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
 //      tangent plane), applied once with applyWarmStart(),
-//   4. sweeps contactIterations() times over every point (sweepContacts()): applyNormalImpulse(),
-//      then applyFrictionImpulse() against the normal sum just updated; a point whose last solve
-//      changed nothing, and whose bodies nothing has changed since, is skipped (solving it again
-//      would change nothing: the kernels are pure),
+//   4. sweeps contactIterations() times over every point (ContactSweeps, contact_sweeps.cpp):
+//      applyNormalImpulse(), then applyFrictionImpulse() against the normal sum just updated; a
+//      point whose last solve changed nothing, and whose bodies nothing has changed since, is
+//      skipped (solving it again would change nothing: the kernels are pure); a large stage in two
+//      Halves at once on the engine's second thread, the same to the bit as on one,
 //   5. moves every body by h times the change of its velocity in the stage, less its parts along the
 //      normals of the body's contacts, and turns it by h times the change of its angular velocity:
 //      the integration stage moved the bodies with the velocities before the impulses, and the

@@ -111,8 +111,9 @@ public:
     /// finds nothing to do ends the stage early.
     int contactIterations() const { return contactIterations_; }
     void setContactIterations(int iterations);
-    /// Threads the broad phase may use: 1, or 2 (the default on a machine with two cores or more),
-    /// which it uses only for scenes large enough to gain; the results are the same either way.
+    /// Threads the broad phase and the friction stage may use: 1, or 2 (the default on a machine
+    /// with two cores or more), which they use only for scenes large enough to gain (the second
+    /// thread is made then, and kept by the engine); the results are the same to the bit either way.
     /// Throws std::invalid_argument below 1.
     int threads() const { return broadPhase_.threads(); }
     void setThreads(int threads);
