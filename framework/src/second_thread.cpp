@@ -1,7 +1,13 @@
 #include "gpl/second_thread.h"
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <mutex>
 #include <system_error>
+#include <thread>
 #include <utility>
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
@@ -34,89 +40,109 @@ bool spinUntil(Done done) {
 
 }  // namespace
 
-SecondThread::~SecondThread() {
-    if (!thread_.joinable()) return;
-    {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        stop_ = true;
-    }
-    wake_.notify_one();
-    thread_.join();
-}
+struct SecondThread::Shared {
+    std::thread thread;
+    bool failed = false;  ///< the system would not make a thread: the caller does it all
+    std::mutex mutex;
+    std::condition_variable wake;
+    const std::function<void()>* work = nullptr;
+    std::atomic<std::uint64_t> posted{0};  ///< hand-overs so far
+    std::atomic<std::uint64_t> done{0};    ///< hand-overs the thread has finished
+    std::atomic<bool> stop{false};
+    std::exception_ptr error;  ///< what the last work threw
 
-bool SecondThread::started() {
-    if (!thread_.joinable() && !failed_) {
-        try {
-            thread_ = std::thread([this] { loop(); });
-        } catch (const std::system_error&) {
-            failed_ = true;  // e.g. a sandbox's limit on processes: the caller does it all
+    ~Shared() {
+        if (!thread.joinable()) return;
+        {
+            const std::lock_guard<std::mutex> lock(mutex);
+            stop = true;
+        }
+        wake.notify_one();
+        thread.join();
+    }
+
+    /// True once the thread runs (made now if need be).
+    bool started() {
+        if (!thread.joinable() && !failed) {
+            try {
+                thread = std::thread([this] { loop(); });
+            } catch (const std::system_error&) {
+                failed = true;  // e.g. a sandbox's limit on processes
+            }
+        }
+        return thread.joinable();
+    }
+
+    /// Hands `next` (nullptr: nothing, only wake) to the thread, once it has done the last.
+    void post(const std::function<void()>* next) {
+        finish();
+        {
+            const std::lock_guard<std::mutex> lock(mutex);
+            work = next;
+            posted.fetch_add(1, std::memory_order_release);
+        }
+        wake.notify_one();
+    }
+
+    /// Returns once the thread has done everything posted.
+    void finish() {
+        const std::uint64_t all = posted.load(std::memory_order_relaxed);
+        const auto finished = [this, all] { return done.load(std::memory_order_acquire) == all; };
+        while (!spinUntil(finished)) std::this_thread::yield();
+    }
+
+    void loop() {
+        std::uint64_t seen = 0;
+        const auto newWork = [this, &seen] { return posted.load(std::memory_order_acquire) != seen || stop; };
+        for (;;) {
+            if (!spinUntil(newWork)) {
+                std::unique_lock<std::mutex> lock(mutex);
+                wake.wait(lock, newWork);
+            }
+            if (stop) return;
+            const std::function<void()>* next = nullptr;
+            {
+                const std::lock_guard<std::mutex> lock(mutex);
+                next = work;
+                seen = posted.load(std::memory_order_relaxed);
+            }
+            if (next != nullptr) {
+                try {
+                    (*next)();
+                } catch (...) {
+                    error = std::current_exception();
+                }
+            }
+            done.store(seen, std::memory_order_release);
         }
     }
-    return thread_.joinable();
-}
+};
 
-void SecondThread::post(const std::function<void()>* work) {
-    finish();
-    {
-        const std::lock_guard<std::mutex> lock(mutex_);
-        work_ = work;
-        posted_.fetch_add(1, std::memory_order_release);
-    }
-    wake_.notify_one();
-}
-
-void SecondThread::finish() {
-    const std::uint64_t posted = posted_.load(std::memory_order_relaxed);
-    const auto finished = [this, posted] { return done_.load(std::memory_order_acquire) == posted; };
-    while (!spinUntil(finished)) std::this_thread::yield();
-}
+SecondThread::SecondThread() : shared_(new Shared) {}
+SecondThread::~SecondThread() { delete shared_; }
+SecondThread::SecondThread(const SecondThread&) : shared_(new Shared) {}
+SecondThread& SecondThread::operator=(const SecondThread&) { return *this; }
 
 void SecondThread::wake() {
-    if (started()) post(nullptr);
+    if (shared_->started()) shared_->post(nullptr);
 }
 
 void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs) {
-    if (!use || !started()) {
+    if (!use || !shared_->started()) {
         mine();
         theirs();
         return;
     }
-    post(&theirs);
+    shared_->post(&theirs);
     std::exception_ptr mineFailed;
     try {
         mine();
     } catch (...) {
         mineFailed = std::current_exception();
     }
-    finish();
+    shared_->finish();
     if (mineFailed) std::rethrow_exception(mineFailed);
-    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
-}
-
-void SecondThread::loop() {
-    std::uint64_t seen = 0;
-    const auto posted = [this, &seen] { return posted_.load(std::memory_order_acquire) != seen || stop_; };
-    for (;;) {
-        if (!spinUntil(posted)) {
-            std::unique_lock<std::mutex> lock(mutex_);
-            wake_.wait(lock, posted);
-        }
-        if (stop_) return;
-        const std::function<void()>* work = nullptr;
-        {
-            const std::lock_guard<std::mutex> lock(mutex_);
-            work = work_;
-            seen = posted_.load(std::memory_order_relaxed);
-        }
-        if (work != nullptr) {
-            try {
-                (*work)();
-            } catch (...) {
-                error_ = std::current_exception();
-            }
-        }
-        done_.store(seen, std::memory_order_release);
-    }
+    if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));
 }
 
 }  // namespace gpl

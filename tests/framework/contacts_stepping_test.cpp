@@ -341,10 +341,14 @@ TEST(Contacts, SecondThreadRunsBothHalvesAndHandsBackWhatTheirsThrew) {
     EXPECT_EQ(theirs, 1000);
     EXPECT_NE(theirsOn, std::this_thread::get_id());
     EXPECT_THROW(second.run(true, [] {}, [] { throw std::runtime_error("theirs failed"); }), std::runtime_error);
+    second.wake();  // as a stage does before its first hand-over
     second.run(true, [&] { ++mine; }, [&] { ++theirs; });  // and it goes on working
     EXPECT_EQ(theirs, 1001);
-    const SecondThread copy = second;  // an engine's copy makes its own thread when it needs one
-    (void)copy;
+    SecondThread copy = second;  // an engine's copy makes its own thread when it needs one
+    std::thread::id copyOn;
+    copy.run(true, [] {}, [&] { copyOn = std::this_thread::get_id(); });
+    EXPECT_NE(copyOn, theirsOn);
+    EXPECT_NE(copyOn, std::this_thread::get_id());
 }
 
 TEST(Contacts, ThreadsAreCheckedAndRemembered) {

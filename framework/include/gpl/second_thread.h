@@ -9,23 +9,17 @@
 // its own first: a stage whose halves touch different data gets the same result either way.
 #pragma once
 
-#include <atomic>
-#include <condition_variable>
-#include <cstdint>
-#include <exception>
 #include <functional>
-#include <mutex>
-#include <thread>
 
 namespace gpl {
 
 class SecondThread {
 public:
-    SecondThread() = default;
+    SecondThread();
     ~SecondThread();
     /// Each engine has its own: a copy starts without a thread.
-    SecondThread(const SecondThread&) {}
-    SecondThread& operator=(const SecondThread&) { return *this; }
+    SecondThread(const SecondThread&);
+    SecondThread& operator=(const SecondThread&);
 
     /// Runs mine() here and theirs() on the second thread (made on first use), and returns when
     /// both have. With `use` false, or when no thread can be made, runs mine() and then theirs()
@@ -36,23 +30,11 @@ public:
     void wake();
 
 private:
-    std::thread thread_;
-    bool failed_ = false;  ///< the system would not make a thread: run everything here
-    std::mutex mutex_;
-    std::condition_variable wake_;
-    const std::function<void()>* work_ = nullptr;
-    std::atomic<std::uint64_t> posted_{0};  ///< hand-overs so far
-    std::atomic<std::uint64_t> done_{0};    ///< hand-overs the thread has finished
-    std::atomic<bool> stop_{false};
-    std::exception_ptr error_;
-
-    /// True once the thread runs (made now if need be).
-    bool started();
-    /// Hands work (nullptr: nothing, only wake) to the thread, once it has done the last.
-    void post(const std::function<void()>* work);
-    /// Returns once the thread has done everything posted.
-    void finish();
-    void loop();
+    /// The thread and what it shares with the caller, owned (second_thread.cpp). Hidden, and held by
+    /// a plain pointer, so that every file that includes the engine stays free of <thread>, <mutex>
+    /// and <memory> (5 % more lines to compile in every hook file and test).
+    struct Shared;
+    Shared* shared_;
 };
 
 }  // namespace gpl
