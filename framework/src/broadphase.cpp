@@ -54,7 +54,7 @@ std::uint64_t packCell(long x, long y, long z) {
 
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
                                                    SecondThread* second) {
-    second_ = threads_ > 1 ? second : nullptr;
+    if (threads_ < 2) second = nullptr;
     pairs_.clear();
     entries_.clear();
     filed_.clear();
@@ -72,9 +72,9 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
     }
 
     if (entries_.size() < kGridFrom) {
-        sweep();
+        sweep(second);
     } else {
-        grid();
+        grid(second);
     }
 
     for (std::size_t plane : planes_) {
@@ -102,7 +102,7 @@ void BroadPhase::sortPairs(std::size_t bodies) {
     pairs_.swap(placed_);
 }
 
-void BroadPhase::sweep() {
+void BroadPhase::sweep(SecondThread* second) {
     // Along the axis on which the boxes spread most, sorted by their lower ends: each box is tested
     // only against the boxes that begin before it ends.
     Vec3 sum = Vec3::Zero(), sumSquares = Vec3::Zero();
@@ -120,11 +120,11 @@ void BroadPhase::sweep() {
     // The boxes packed in that order, for the inner loop.
     swept_.clear();
     for (const std::uint32_t k : order_) swept_.push_back({entries_[k].box, entries_[k].index, entries_[k].isStatic});
-    if (second_ != nullptr && swept_.size() >= kTwoThreadsFrom) {
+    if (second != nullptr && swept_.size() >= kTwoThreadsFrom) {
         // Two halves of the boxes, each tested against those after it; sortPairs() orders the pairs.
         const std::size_t half = swept_.size() / 2;
         secondHalf_.clear();
-        second_->run(true, [this, axis, half] { sweepFrom(axis, 0, half, pairs_); },
+        second->run(true, [this, axis, half] { sweepFrom(axis, 0, half, pairs_); },
                     [this, axis, half] { sweepFrom(axis, half, swept_.size(), secondHalf_); });
         pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
     } else {
@@ -176,7 +176,7 @@ void BroadPhase::sortAlong(int axis) {
     }
 }
 
-void BroadPhase::grid() {
+void BroadPhase::grid(SecondThread* second) {
     // Cells twice as wide as the median box (a metre when there is nothing to go by).
     double cell = 1.0;
     if (!sizes_.empty()) {
@@ -203,12 +203,12 @@ void BroadPhase::grid() {
     }
     std::sort(filed_.begin(), filed_.end());
 
-    if (second_ != nullptr) {
+    if (second != nullptr) {
         // Two halves, each starting at the beginning of a cell.
         std::size_t half = filed_.size() / 2;
         while (half > 0 && half < filed_.size() && filed_[half].cell == filed_[half - 1].cell) ++half;
         secondHalf_.clear();
-        second_->run(true, [this, half] { testCells(0, half, pairs_); },
+        second->run(true, [this, half] { testCells(0, half, pairs_); },
                     [this, half] { testCells(half, filed_.size(), secondHalf_); });
         pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
     } else {

@@ -298,7 +298,7 @@ void PhysicsEngine::projectConstraints() {
     for (int sweep = 0; sweep < constraintIterations_; ++sweep) {
         if (collisions) {
             // Pairs anew every sweep, with a margin: this sweep's pushes may reach new neighbours.
-            for (const BodyPair& pair : broadPhase_.findPairs(bodies_, kContactMargin)) {
+            for (const BodyPair& pair : broadPhase_.findPairs(bodies_, kContactMargin, &second_)) {
                 Body& a = bodies_[pair.a];
                 Body& b = bodies_[pair.b];
                 if (a.shape != Shape::Sphere || b.shape != Shape::Sphere) continue;

@@ -15,9 +15,10 @@
 // extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
 // new overlaps among them while they move bodies apart.
 //
-// With two threads (setThreads(), the default where the machine has two cores) the grid's cells, or
-// from kTwoThreadsFrom bodies on the sweep's boxes, are tested in two halves at once; the pairs are
-// sorted after, so the result is the same.
+// With two threads (setThreads(), the default where the machine has two cores) and a SecondThread
+// handed to findPairs() (the engine's), the grid's cells, or from kTwoThreadsFrom bodies on the
+// sweep's boxes, are tested in two halves at once; the pairs are sorted after, so the result is the
+// same.
 #pragma once
 
 #include <cstddef>
@@ -95,18 +96,18 @@ private:
     std::vector<BodyPair> placed_;      ///< sortPairs()'s output, swapped with pairs_
     std::vector<std::size_t> firsts_;   ///< sortPairs()'s count, then position, per first body
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
-    SecondThread* second_ = nullptr;  ///< findPairs()'s, for the call
     int threads_ = defaultThreads();
 
-    /// The pairs of entries_ by sort and sweep, or by the grid, into pairs_.
-    void sweep();
+    /// The pairs of entries_ by sort and sweep, or by the grid, into pairs_; half of them on
+    /// `second` when it is given.
+    void sweep(SecondThread* second);
     /// The sweep's tests of the boxes swept_[first, last) against those after them, into pairs.
     void sweepFrom(int axis, std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
     /// Sorts order_ by the boxes' lower ends along the axis, starting from the last call's order.
     void sortAlong(int axis);
     /// Sorts pairs_ by (a, b) for a scene of this many bodies.
     void sortPairs(std::size_t bodies);
-    void grid();
+    void grid(SecondThread* second);
     /// Tests the boxes filed under the same cell, for the cells filed_[first, last) begins, into pairs.
     void testCells(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
     static int defaultThreads();
