@@ -43,11 +43,15 @@ namespace {
 
 constexpr int kCellBits = 21;                          // per axis in a packed cell
 constexpr long kCellRange = 1L << (kCellBits - 1);     // cells -kCellRange .. kCellRange - 1 per axis
-constexpr int kLargeCells = 4;                         // more cells than this on an axis: a large body
 
 std::uint64_t packCell(long x, long y, long z) {
     const auto bits = [](long c) { return static_cast<std::uint64_t>(c + kCellRange); };
     return bits(x) << (2 * kCellBits) | bits(y) << kCellBits | bits(z);
+}
+
+// What to add to a packed cell to get its neighbour dx, dy cells away on the first two axes.
+constexpr std::uint64_t rowOffset(long dx, long dy) {
+    return static_cast<std::uint64_t>(dx * (1L << (2 * kCellBits)) + dy * (1L << kCellBits));
 }
 
 }  // namespace
@@ -67,7 +71,7 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
             continue;
         }
         const Aabb box = boundingBox(bodies[i], margin);
-        entries_.push_back({box, i, bodies[i].isStatic(), Eigen::Vector3i::Zero(), Eigen::Vector3i::Zero()});
+        entries_.push_back({box, i, bodies[i].isStatic()});
         sizes_.push_back((box.max - box.min).maxCoeff());
     }
 
@@ -177,42 +181,46 @@ void BroadPhase::sortAlong(int axis) {
 }
 
 void BroadPhase::grid(SecondThread* second) {
-    // Cells twice as wide as the median box (a metre when there is nothing to go by).
-    double cell = 1.0;
+    // Cells as wide as the largest box that is not large (kLargeSizes median boxes): two boxes that
+    // overlap then have their centres in the same cell or in neighbouring ones.
+    double median = 0.0;
     if (!sizes_.empty()) {
         std::nth_element(sizes_.begin(), sizes_.begin() + sizes_.size() / 2, sizes_.end());
-        if (sizes_[sizes_.size() / 2] > 0.0) cell = 2.0 * sizes_[sizes_.size() / 2];
+        median = sizes_[sizes_.size() / 2];
     }
+    const auto size = [](const Entry& e) { return (e.box.max - e.box.min).maxCoeff(); };
+    const auto large = [&](const Entry& e) { return median > 0.0 && size(e) > kLargeSizes * median; };
+    double cell = 0.0;
+    for (const Entry& e : entries_) {
+        if (!large(e)) cell = std::max(cell, size(e));
+    }
+    if (!(cell > 0.0) || !std::isfinite(cell)) cell = 1.0;
+    // Each box filed under the cell of its centre; a large one, or one outside the grid's range
+    // (with a cell to spare on every side), is tested against every other box instead.
     for (std::size_t k = 0; k < entries_.size(); ++k) {
-        Entry& e = entries_[k];
-        const Vec3 lo = (e.box.min / cell).array().floor(), hi = (e.box.max / cell).array().floor();
-        const bool inRange = (lo.array() >= -kCellRange).all() && (hi.array() < kCellRange).all();
-        if (!inRange || ((hi - lo).array() >= kLargeCells).any()) {
+        const Entry& e = entries_[k];
+        const Vec3 at = (0.5 * (e.box.min + e.box.max) / cell).array().floor();
+        const bool inRange = (at.array() > -kCellRange + 1.0).all() && (at.array() < kCellRange - 2.0).all();
+        if (!inRange || large(e)) {
             large_.push_back(k);
             continue;
         }
-        e.cellLo = lo.cast<int>();
-        e.cellHi = hi.cast<int>();
-        for (int x = e.cellLo.x(); x <= e.cellHi.x(); ++x) {
-            for (int y = e.cellLo.y(); y <= e.cellHi.y(); ++y) {
-                for (int z = e.cellLo.z(); z <= e.cellHi.z(); ++z) {
-                    filed_.push_back({packCell(x, y, z), static_cast<std::uint32_t>(k)});
-                }
-            }
-        }
+        filed_.push_back({packCell(static_cast<long>(at.x()), static_cast<long>(at.y()), static_cast<long>(at.z())),
+                          static_cast<std::uint32_t>(k)});
     }
     std::sort(filed_.begin(), filed_.end());
+    // The boxes packed in the cells' order, for the inner loop.
+    swept_.clear();
+    for (const Filed& f : filed_) swept_.push_back({entries_[f.entry].box, entries_[f.entry].index, entries_[f.entry].isStatic});
 
     if (second != nullptr) {
-        // Two halves, each starting at the beginning of a cell.
-        std::size_t half = filed_.size() / 2;
-        while (half > 0 && half < filed_.size() && filed_[half].cell == filed_[half - 1].cell) ++half;
+        const std::size_t half = filed_.size() / 2;
         secondHalf_.clear();
-        second->run(true, [this, half] { testCells(0, half, pairs_); },
-                    [this, half] { testCells(half, filed_.size(), secondHalf_); });
+        second->run(true, [this, half] { testNeighbours(0, half, pairs_); },
+                    [this, half] { testNeighbours(half, filed_.size(), secondHalf_); });
         pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
     } else {
-        testCells(0, filed_.size(), pairs_);
+        testNeighbours(0, filed_.size(), pairs_);
     }
 
     // Large bodies against every other body (each pair of large bodies once).
@@ -226,23 +234,34 @@ void BroadPhase::grid(SecondThread* second) {
             if (overlap(p.box, q.box)) pairs_.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
         }
     }
-
 }
 
-void BroadPhase::testCells(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
-    for (std::size_t begin = first, end = first; begin < last; begin = end) {
-        while (end < last && filed_[end].cell == filed_[begin].cell) ++end;
-        const std::uint64_t cell = filed_[begin].cell;
-        for (std::size_t u = begin; u < end; ++u) {
-            const Entry& p = entries_[filed_[u].entry];
-            for (std::size_t v = u + 1; v < end; ++v) {
-                const Entry& q = entries_[filed_[v].entry];
-                if (p.isStatic && q.isStatic) continue;
-                // Reported only by the lowest cell the two cover together.
-                const Eigen::Vector3i shared = p.cellLo.cwiseMax(q.cellLo);
-                if (packCell(shared.x(), shared.y(), shared.z()) != cell) continue;
-                if (overlap(p.box, q.box)) pairs.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
-            }
+void BroadPhase::testNeighbours(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
+    // Each pair of neighbours is tested once, by the box whose cell comes first in the order of
+    // filed_ (by the earlier of the two in one cell): against the boxes after it in its own row of
+    // cells along the third axis (its cell and the next), and in the four rows that come after that
+    // row (each three cells long).
+    constexpr std::uint64_t kRows[] = {rowOffset(0, 1), rowOffset(1, -1), rowOffset(1, 0), rowOffset(1, 1)};
+    std::size_t from[4];  // per row, the first box not before the row's first cell
+    for (int r = 0; r < 4 && first < last; ++r) {
+        const Filed lowest{filed_[first].cell + kRows[r] - 1, 0};
+        from[r] = static_cast<std::size_t>(std::lower_bound(filed_.begin(), filed_.end(), lowest) - filed_.begin());
+    }
+    const auto test = [this, &pairs](const Swept& p, std::size_t v) {
+        const Swept& q = swept_[v];
+        if (overlap(p.box, q.box) && !(p.isStatic && q.isStatic)) {
+            pairs.push_back({std::min(p.index, q.index), std::max(p.index, q.index)});
+        }
+    };
+    for (std::size_t u = first; u < last; ++u) {
+        const Swept& p = swept_[u];
+        const std::uint64_t cell = filed_[u].cell;
+        for (std::size_t v = u + 1; v < filed_.size() && filed_[v].cell <= cell + 1; ++v) test(p, v);
+        for (int r = 0; r < 4; ++r) {
+            std::size_t v = from[r];
+            while (v < filed_.size() && filed_[v].cell < cell + kRows[r] - 1) ++v;
+            from[r] = v;
+            for (; v < filed_.size() && filed_[v].cell <= cell + kRows[r] + 1; ++v) test(p, v);
         }
     }
 }

@@ -3,13 +3,14 @@
 // Every finite body (sphere, box) gets an axis-aligned bounding box. Up to a few thousand bodies,
 // sort and sweep: the boxes are sorted along the axis on which they spread most, and each is tested
 // only against those that begin before it ends there. From kGridFrom bodies on, where the sweep's
-// slabs hold ever more boxes, a uniform grid: the boxes are filed under the grid cells they cover (cells twice as wide as the median box, so a typical
-// body covers one to eight). Only boxes filed under the same cell are tested, and a pair is
-// reported by the lowest cell the two share, so once. A body much larger than the cells (or far
-// outside the grid's range) is tested against every other body instead. Static planes are infinite:
-// each pairs with every movable body whose box reaches the plane. Two static bodies never pair. The
-// result is exactly the pairs whose bounding volumes overlap (bruteForcePairs() tests every pair the
-// same way), sorted. The work grows with the number of bodies, not with the size of the scene.
+// slabs hold ever more boxes, a uniform grid of cells as wide as the largest box: each box is filed
+// under the cell of its centre, and tested only against the boxes of its own and the neighbouring
+// cells, each pair once. A body larger than kLargeSizes median boxes (or far outside the grid's
+// range) is tested against every other body instead, so that one large body does not make every
+// cell large. Static planes are infinite: each pairs with every movable body whose box reaches the
+// plane. Two static bodies never pair. The result is exactly the pairs whose bounding volumes
+// overlap (bruteForcePairs() tests every pair the same way), sorted. The work grows with the number
+// of bodies, not with the size of the scene.
 //
 // A margin grows every box by a fraction of its body's size (the radius, or a box's smallest half
 // extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
@@ -60,19 +61,20 @@ public:
     int threads() const { return threads_; }
     /// From this many finite bodies on, the grid (below, sort and sweep: cheaper for a few thousand).
     static constexpr std::size_t kGridFrom = 2048;
+    /// In the grid, a body larger than this many times the median body is tested against every other.
+    static constexpr double kLargeSizes = 4.0;
     /// From this many finite bodies on, the sweep uses both threads (below, handing work over
     /// costs more than it saves).
     static constexpr std::size_t kTwoThreadsFrom = 512;
 
 private:
-    /// A body's box with the cells it covers, [cellLo, cellHi] on each axis.
+    /// A body's box.
     struct Entry {
         Aabb box;
         std::size_t index;
         bool isStatic;
-        Eigen::Vector3i cellLo, cellHi;
     };
-    /// One cell a box covers: the cell's packed coordinates and the entry.
+    /// The grid's cell of a box's centre: the cell's packed coordinates and the entry.
     struct Filed {
         std::uint64_t cell;
         std::uint32_t entry;
@@ -87,7 +89,7 @@ private:
     std::vector<Entry> entries_;
     std::vector<std::uint32_t> order_;  ///< entries_ sorted along the sweep's axis, kept for the next call
     int orderAxis_ = -1;                ///< the axis order_ is sorted along
-    std::vector<Swept> swept_;
+    std::vector<Swept> swept_;  ///< the boxes in the sweep's order, or in the grid's (filed_)
     std::vector<Filed> filed_;
     std::vector<std::size_t> large_;  ///< entries tested against every other entry
     std::vector<double> sizes_;       ///< each entry's largest extent (m), for the grid's cell size
@@ -108,8 +110,8 @@ private:
     /// Sorts pairs_ by (a, b) for a scene of this many bodies.
     void sortPairs(std::size_t bodies);
     void grid(SecondThread* second);
-    /// Tests the boxes filed under the same cell, for the cells filed_[first, last) begins, into pairs.
-    void testCells(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
+    /// Tests the boxes filed_[first, last) against their neighbours after them, into pairs.
+    void testNeighbours(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
     static int defaultThreads();
 };
 
