@@ -59,25 +59,11 @@ void PhysicsEngine::detectCollisions() {
     const std::vector<BodyPair>& pairs = broadPhase_.findPairs(bodies_, kContactMargin, &second_);
     nearPairs_.assign(pairs.begin(), pairs.end());
     pairInContacts_.assign(nearPairs_.size(), 0);
-    // The kernels on the pairs [from, to), their contacts into `found` in the pairs' order.
-    const auto narrowPhase = [this](std::size_t from, std::size_t to, std::vector<Contact>& found) {
-        for (std::size_t k = from; k < to; ++k) {
-            if (std::optional<Contact> c = collide(bodies_, nearPairs_[k].a, nearPairs_[k].b)) {
-                found.push_back(*c);
-                pairInContacts_[k] = 1;
-            }
+    for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
+        if (std::optional<Contact> c = collide(bodies_, nearPairs_[k].a, nearPairs_[k].b)) {
+            contacts_.push_back(*c);
+            pairInContacts_[k] = 1;
         }
-    };
-    // A long list in two halves at once, the second half's contacts after the first's: the same
-    // contacts in the same order as on one thread (the kernels only read the bodies).
-    const std::size_t n = nearPairs_.size();
-    if (n < kNarrowPhaseHalvesFrom) {
-        narrowPhase(0, n, contacts_);
-    } else {
-        secondHalfContacts_.clear();
-        second_.run(threads() > 1, [&] { narrowPhase(0, n / 2, contacts_); },
-                    [&] { narrowPhase(n / 2, n, secondHalfContacts_); });
-        contacts_.insert(contacts_.end(), secondHalfContacts_.begin(), secondHalfContacts_.end());
     }
     recordOpenKernels();
 }

@@ -47,8 +47,9 @@ inline double combineRestitution(double ea, double eb) { return ea * eb; }
 /// The rule that combines the friction coefficients of two bodies (static with static, sliding with
 /// sliding) into the pair's: their geometric mean sqrt(mu_a mu_b). Two bodies of the same material
 /// keep their coefficient, a frictionless body (0) makes the pair frictionless, and the order of
-/// mu_s >= mu_d survives the combination.
-inline double combineFriction(double mua, double mub) { return std::sqrt(mua * mub); }
+/// mu_s >= mu_d survives the combination. Equal coefficients skip the square root, which would give
+/// them back to the bit (sqrt(x x) = x in floating point while x x neither overflows nor underflows).
+inline double combineFriction(double mua, double mub) { return mua == mub ? mua : std::sqrt(mua * mub); }
 
 /// A rope between two bodies: at most `length` apart, it only pulls (a slack rope does nothing).
 /// A taut rope becomes a contact (ropeContact()) whose normal points along the rope from the second

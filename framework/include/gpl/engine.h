@@ -111,15 +111,12 @@ public:
     /// finds nothing to do ends the stage early.
     int contactIterations() const { return contactIterations_; }
     void setContactIterations(int iterations);
-    /// Threads the broad phase, the narrow phase and the friction stage may use: 1, or 2 (the default on a machine
+    /// Threads the broad phase and the friction stage may use: 1, or 2 (the default on a machine
     /// with two cores or more), which they use only for scenes large enough to gain (the second
     /// thread is made then, and kept by the engine); the results are the same to the bit either way.
     /// Throws std::invalid_argument below 1.
     int threads() const { return broadPhase_.threads(); }
     void setThreads(int threads);
-    /// From this many near pairs on, detection's narrow phase runs the kernels on the two halves of
-    /// the list at once (with two threads; one after the other with one).
-    static constexpr std::size_t kNarrowPhaseHalvesFrom = 1024;
 
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }
@@ -242,7 +239,6 @@ private:
     std::vector<Contact> contacts_;     ///< this step's, emptied when a step begins
     std::vector<BodyPair> nearPairs_;  ///< this step's broad-phase pairs with kContactMargin, likewise
     std::vector<char> pairInContacts_;  ///< per near pair: its contact is in contacts_ (0 or 1)
-    std::vector<Contact> secondHalfContacts_;  ///< detection's, of the near pairs' second half (large scenes)
     std::vector<char> ropeInContacts_;  ///< per rope: its contact is in contacts_ (0 or 1)
     std::vector<std::size_t> movedAt_;  ///< interpenetration's, per body: moves counted when it last moved
     std::vector<std::size_t> apartAt_;  ///< interpenetration's, per near pair: moves counted when last found apart
@@ -260,7 +256,7 @@ private:
     };
     std::vector<Normals> normals_;
     ContactSweeps sweeps_;                 ///< the friction stage's sweeps and their buffers
-    SecondThread second_;                  ///< the second thread of the broad phase, the narrow phase and the friction stage
+    SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
     std::vector<std::size_t> firstPoint_;  ///< the friction stage's, per contact: its first point's index
     std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
     std::vector<int> found_;               ///< the friction stage's, per remembered pair: its contact now
