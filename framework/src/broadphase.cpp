@@ -59,6 +59,7 @@ constexpr std::uint64_t rowOffset(long dx, long dy) {
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
                                                    SecondThread* second) {
     if (threads_ < 2) second = nullptr;
+    if (second != nullptr && bodies.size() >= kTwoThreadsFrom) second->wake();  // up by the time the boxes are made
     pairs_.clear();
     entries_.clear();
     filed_.clear();

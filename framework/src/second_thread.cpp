@@ -18,7 +18,8 @@ namespace {
 
 // How long a waiting thread spins before it sleeps (the second thread) or yields (the caller): a
 // sweep's hand-overs are a few tens of microseconds apart.
-constexpr std::chrono::microseconds kSpin{100};
+constexpr std::chrono::microseconds kSpin{500};         // after a hand-over
+constexpr std::chrono::microseconds kWokenSpin{20000};  // after wake(): a stage's preparations
 
 // Lets the other hardware thread of a shared core run while this one spins.
 inline void pause() {
@@ -27,10 +28,10 @@ inline void pause() {
 #endif
 }
 
-// Spins until done() or kSpin has passed; true when done.
+// Spins until done() or `spin` has passed; true when done.
 template <class Done>
-bool spinUntil(Done done) {
-    const auto until = std::chrono::steady_clock::now() + kSpin;
+bool spinUntil(Done done, std::chrono::microseconds spin) {
+    const auto until = std::chrono::steady_clock::now() + spin;
     for (int k = 0;; ++k) {
         if (done()) return true;
         pause();
@@ -88,14 +89,15 @@ struct SecondThread::Shared {
     void finish() {
         const std::uint64_t all = posted.load(std::memory_order_relaxed);
         const auto finished = [this, all] { return done.load(std::memory_order_acquire) == all; };
-        while (!spinUntil(finished)) std::this_thread::yield();
+        while (!spinUntil(finished, kSpin)) std::this_thread::yield();
     }
 
     void loop() {
         std::uint64_t seen = 0;
+        std::chrono::microseconds spin = kSpin;
         const auto newWork = [this, &seen] { return posted.load(std::memory_order_acquire) != seen || stop; };
         for (;;) {
-            if (!spinUntil(newWork)) {
+            if (!spinUntil(newWork, spin)) {
                 std::unique_lock<std::mutex> lock(mutex);
                 wake.wait(lock, newWork);
             }
@@ -106,6 +108,7 @@ struct SecondThread::Shared {
                 next = work;
                 seen = posted.load(std::memory_order_relaxed);
             }
+            spin = next == nullptr ? kWokenSpin : kSpin;  // woken: the hand-over comes after the preparations
             if (next != nullptr) {
                 try {
                     (*next)();

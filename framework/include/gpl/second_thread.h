@@ -2,11 +2,13 @@
 // caller runs one half, the second thread the other, and both return before the caller goes on.
 //
 // A stage hands over work many times a step (the friction stage: once per sweep), so the thread is
-// made once and kept. After a hand-over it spins for a hundred microseconds (the next hand-over then
-// costs well under a microsecond), and then sleeps until the next one; a stage wakes it as it
-// begins, so that its first hand-over finds it awake. Without a second thread
-// (one was not asked for, or the system would not make one) the caller runs both halves itself,
-// its own first: a stage whose halves touch different data gets the same result either way.
+// made once and kept. After a hand-over it spins for half a millisecond (the next hand-over then
+// costs well under a microsecond, and a step's stages come about that close after each other), and
+// then sleeps until the next one. A stage wakes it as it begins, and it then spins through the
+// stage's preparations (up to 20 ms), so that the first hand-over finds it awake: waking a thread
+// that sleeps takes tens of microseconds. Without a second thread (one was not asked for, or the
+// system would not make one) the caller runs both halves itself, its own first: a stage whose
+// halves touch different data gets the same result either way.
 #pragma once
 
 #include <functional>
