@@ -2,7 +2,8 @@
 // Benchmark (Debian libbenchmark-dev). N is the number of spheres: a heap packed so that
 // neighbours overlap (every contact stage has work), or a free fall (no contact at all).
 //
-//   BM_BroadPhase/N            sort and sweep over the heap
+//   BM_BroadPhase/N            the broad phase over the heap (sort and sweep below 512 bodies, the
+//                              grid from there; on one thread)
 //   BM_SphereSphere, BM_SpherePlane, BM_ResolveInterpenetration, BM_ApplyCollisionImpulse
 //                              one call of each contact kernel
 //   BM_SphereBox, BM_BoxPlane, BM_BoxBoxFace, BM_BoxBoxEdge, BM_BoxBoxApart

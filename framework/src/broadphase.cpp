@@ -59,7 +59,7 @@ constexpr std::uint64_t rowOffset(long dx, long dy) {
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
                                                    SecondThread* second) {
     if (threads_ < 2) second = nullptr;
-    if (second != nullptr && bodies.size() >= kTwoThreadsFrom) second->wake();  // up by the time the boxes are made
+    if (second != nullptr && bodies.size() >= kGridFrom) second->wake();  // up by the time the boxes are made
     pairs_.clear();
     entries_.clear();
     filed_.clear();
@@ -77,7 +77,7 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
     }
 
     if (entries_.size() < kGridFrom) {
-        sweep(second);
+        sweep();
     } else {
         grid(second);
     }
@@ -107,7 +107,7 @@ void BroadPhase::sortPairs(std::size_t bodies) {
     pairs_.swap(placed_);
 }
 
-void BroadPhase::sweep(SecondThread* second) {
+void BroadPhase::sweep() {
     // Along the axis on which the boxes spread most, sorted by their lower ends: each box is tested
     // only against the boxes that begin before it ends.
     Vec3 sum = Vec3::Zero(), sumSquares = Vec3::Zero();
@@ -125,16 +125,7 @@ void BroadPhase::sweep(SecondThread* second) {
     // The boxes packed in that order, for the inner loop.
     swept_.clear();
     for (const std::uint32_t k : order_) swept_.push_back({entries_[k].box, entries_[k].index, entries_[k].isStatic});
-    if (second != nullptr && swept_.size() >= kTwoThreadsFrom) {
-        // Two halves of the boxes, each tested against those after it; sortPairs() orders the pairs.
-        const std::size_t half = swept_.size() / 2;
-        secondHalf_.clear();
-        second->run(true, [this, axis, half] { sweepFrom(axis, 0, half, pairs_); },
-                    [this, axis, half] { sweepFrom(axis, half, swept_.size(), secondHalf_); });
-        pairs_.insert(pairs_.end(), secondHalf_.begin(), secondHalf_.end());
-    } else {
-        sweepFrom(axis, 0, swept_.size(), pairs_);
-    }
+    sweepFrom(axis, 0, swept_.size(), pairs_);
 }
 
 void BroadPhase::sweepFrom(int axis, std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const {
@@ -215,6 +206,8 @@ void BroadPhase::grid(SecondThread* second) {
     for (const Filed& f : filed_) swept_.push_back({entries_[f.entry].box, entries_[f.entry].index, entries_[f.entry].isStatic});
 
     if (second != nullptr) {
+        // Two halves of the boxes, each tested against its neighbours after it; sortPairs() orders
+        // the pairs.
         const std::size_t half = filed_.size() / 2;
         secondHalf_.clear();
         second->run(true, [this, half] { testNeighbours(0, half, pairs_); },

@@ -47,14 +47,14 @@ TEST(BroadPhase, SamePairsAsTestingEveryPair) {
 }
 
 TEST(BroadPhase, OneThreadAndTwoFindTheSamePairs) {
-    // Scenes for the sweep on two threads (kTwoThreadsFrom bodies) and for the grid: the same pairs
-    // with one thread and two as testing every pair. The grid's third scene holds a body far larger
-    // than the cells and one far outside the grid's range, which are tested against every other body.
+    // Scenes for the grid (kGridFrom bodies on), each with one thread and two: the same pairs as
+    // testing every pair. The last scene holds a body far larger than the cells and two far outside
+    // the grid's range, which are tested against every other body.
     SecondThread second;
-    const int sweep = static_cast<int>(BroadPhase::kTwoThreadsFrom) + 200, grid = static_cast<int>(BroadPhase::kGridFrom);
+    const int grid = static_cast<int>(BroadPhase::kGridFrom);
     for (unsigned seed = 0; seed <= 3; ++seed) {
-        std::vector<Body> bodies = seed == 0 ? randomScene(seed, sweep, 2, 12.0)
-                                             : randomScene(seed, grid + 500 * static_cast<int>(seed), 2, 30.0);
+        std::vector<Body> bodies = seed == 0 ? randomScene(seed, grid, 2, 12.0)
+                                             : randomScene(seed, grid + 1500 * static_cast<int>(seed), 2, 30.0);
         if (seed == 3) {
             bodies.push_back(box("slab", Vec3(40.0, 0.5, 40.0), 1.0).at(Vec3(15.0, 15.0, 15.0)).makeStatic());
             bodies.push_back(sphere("far", 1.0, 1.0).at(Vec3(1e9, 0.0, 0.0)));
@@ -70,11 +70,46 @@ TEST(BroadPhase, OneThreadAndTwoFindTheSamePairs) {
     }
 }
 
+TEST(BroadPhase, TheGridFindsNeighboursInEveryDirection) {
+    // A lattice of equal spheres around the origin (negative cells too), spaced so that each box
+    // overlaps its 26 neighbours' (by 1 % of the spacing on the diagonals' axes) and no other's,
+    // shifted to every offset within a cell (which row and column a neighbour lands in changes);
+    // then the same lattice holding spheres of up to kLargeSizes median ones (filed in cells as wide
+    // as the largest) and one just larger (tested against every other body instead).
+    const double radius = 0.5, spacing = 0.99 * 2.0 * radius;  // m
+    for (int shift = 0; shift < 4; ++shift) {
+        for (const bool mixed : {false, true}) {
+            std::vector<Body> bodies;
+            for (int x = -5; x < 5; ++x) {
+                for (int y = -5; y < 5; ++y) {
+                    for (int z = -5; z < 5; ++z) {
+                        const Vec3 at = spacing * Vec3(x, y, z) + Vec3::Constant(0.3 * shift * radius);
+                        bodies.push_back(sphere("s" + std::to_string(bodies.size()), radius, 1.0).at(at));
+                    }
+                }
+            }
+            if (mixed) {
+                bodies.push_back(sphere("big", 0.99 * BroadPhase::kLargeSizes * radius, 1.0).at(Vec3(1.3, -2.1, 0.4)));
+                bodies.push_back(sphere("larger", 1.01 * BroadPhase::kLargeSizes * radius, 1.0).at(Vec3(-3.2, 2.5, -1.9)));
+            }
+            ASSERT_GE(bodies.size(), BroadPhase::kGridFrom);
+            const std::vector<BodyPair> expected = bruteForcePairs(bodies);
+            BroadPhase broadPhase;
+            broadPhase.setThreads(1);
+            EXPECT_EQ(broadPhase.findPairs(bodies), expected) << "shift " << shift << (mixed ? ", mixed sizes" : "");
+            // Each inner sphere of the plain lattice pairs with its 26 neighbours, 13 of them after it.
+            if (!mixed) {
+                EXPECT_GT(expected.size(), 13u * 8u * 8u * 8u);
+            }
+        }
+    }
+}
+
 TEST(BroadPhase, AMovingSceneKeepsItsPairsRight) {
     // The sweep starts each call from the last call's order. The same bodies called again after
     // small moves (nearly sorted), after large ones (far from sorted) and after the spread has
     // turned to another axis must give the pairs of testing every pair each time.
-    std::vector<Body> bodies = randomScene(7, 400, 1, 8.0);
+    std::vector<Body> bodies = randomScene(7, 400, 1, 8.0);  // sort and sweep
     std::mt19937 random(7);
     std::uniform_real_distribution<double> step(-1.0, 1.0);
     BroadPhase broadPhase;

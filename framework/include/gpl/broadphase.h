@@ -1,9 +1,9 @@
 // The broad phase: which pairs of bodies may touch, found without testing every pair.
 //
-// Every finite body (sphere, box) gets an axis-aligned bounding box. Up to a few thousand bodies,
+// Every finite body (sphere, box) gets an axis-aligned bounding box. Up to a few hundred bodies,
 // sort and sweep: the boxes are sorted along the axis on which they spread most, and each is tested
 // only against those that begin before it ends there. From kGridFrom bodies on, where the sweep's
-// slabs hold ever more boxes, a uniform grid of cells as wide as the largest box: each box is filed
+// slabs hold ever more boxes (a thousand spheres in a heap: 5 times the grid's time), a uniform grid of cells as wide as the largest box: each box is filed
 // under the cell of its centre, and tested only against the boxes of its own and the neighbouring
 // cells, each pair once. A body larger than kLargeSizes median boxes (or far outside the grid's
 // range) is tested against every other body instead, so that one large body does not make every
@@ -17,9 +17,8 @@
 // new overlaps among them while they move bodies apart.
 //
 // With two threads (setThreads(), the default where the machine has two cores) and a SecondThread
-// handed to findPairs() (the engine's), the grid's cells, or from kTwoThreadsFrom bodies on the
-// sweep's boxes, are tested in two halves at once; the pairs are sorted after, so the result is the
-// same.
+// handed to findPairs() (the engine's), the grid tests its boxes in two halves at once; the pairs
+// are sorted after, so the result is the same.
 #pragma once
 
 #include <cstddef>
@@ -56,16 +55,14 @@ public:
     /// one, this one tests them all.
     const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0,
                                            SecondThread* second = nullptr);
-    /// Threads the grid's cell tests may use (1 or 2; more count as 2).
+    /// Threads the grid's tests may use (1 or 2; more count as 2).
     void setThreads(int threads) { threads_ = threads < 2 ? 1 : 2; }
     int threads() const { return threads_; }
-    /// From this many finite bodies on, the grid (below, sort and sweep: cheaper for a few thousand).
-    static constexpr std::size_t kGridFrom = 2048;
+    /// From this many finite bodies on, the grid, on two threads where it may (below, sort and
+    /// sweep on one: as fast there, and handing work over would cost more than it saves).
+    static constexpr std::size_t kGridFrom = 512;
     /// In the grid, a body larger than this many times the median body is tested against every other.
     static constexpr double kLargeSizes = 4.0;
-    /// From this many finite bodies on, the sweep uses both threads (below, handing work over
-    /// costs more than it saves).
-    static constexpr std::size_t kTwoThreadsFrom = 512;
 
 private:
     /// A body's box.
@@ -100,15 +97,15 @@ private:
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
     int threads_ = defaultThreads();
 
-    /// The pairs of entries_ by sort and sweep, or by the grid, into pairs_; half of them on
-    /// `second` when it is given.
-    void sweep(SecondThread* second);
+    /// The pairs of entries_ by sort and sweep, into pairs_.
+    void sweep();
     /// The sweep's tests of the boxes swept_[first, last) against those after them, into pairs.
     void sweepFrom(int axis, std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
     /// Sorts order_ by the boxes' lower ends along the axis, starting from the last call's order.
     void sortAlong(int axis);
     /// Sorts pairs_ by (a, b) for a scene of this many bodies.
     void sortPairs(std::size_t bodies);
+    /// The pairs of entries_ by the grid, into pairs_; half of them on `second` when it is given.
     void grid(SecondThread* second);
     /// Tests the boxes filed_[first, last) against their neighbours after them, into pairs.
     void testNeighbours(std::size_t first, std::size_t last, std::vector<BodyPair>& pairs) const;
