@@ -203,7 +203,10 @@ void BroadPhase::grid(SecondThread* second) {
     std::sort(filed_.begin(), filed_.end());
     // The boxes packed in the cells' order, for the inner loop.
     swept_.clear();
-    for (const Filed& f : filed_) swept_.push_back({entries_[f.entry].box, entries_[f.entry].index, entries_[f.entry].isStatic});
+    for (const Filed& f : filed_) {
+        const Entry& e = entries_[f.entry];
+        swept_.push_back({e.box, e.index, e.isStatic});
+    }
 
     if (second != nullptr) {
         // Two halves of the boxes, each tested against its neighbours after it; sortPairs() orders

@@ -3,11 +3,11 @@
 // Every finite body (sphere, box) gets an axis-aligned bounding box. Up to a few hundred bodies,
 // sort and sweep: the boxes are sorted along the axis on which they spread most, and each is tested
 // only against those that begin before it ends there. From kGridFrom bodies on, where the sweep's
-// slabs hold ever more boxes (a thousand spheres in a heap: 5 times the grid's time), a uniform grid of cells as wide as the largest box: each box is filed
-// under the cell of its centre, and tested only against the boxes of its own and the neighbouring
-// cells, each pair once. A body larger than kLargeSizes median boxes (or far outside the grid's
-// range) is tested against every other body instead, so that one large body does not make every
-// cell large. Static planes are infinite: each pairs with every movable body whose box reaches the
+// slabs hold ever more boxes (a thousand spheres in a heap: 5 times the grid's time), a uniform
+// grid of cells as wide as the largest box: each box is filed under the cell of its centre, and
+// tested only against the boxes of its own and the neighbouring cells, each pair once. A body
+// larger than kLargeSizes median boxes (or far outside the grid's range) is tested against every
+// other body instead, so that one large body does not make every cell large. Static planes are infinite: each pairs with every movable body whose box reaches the
 // plane. Two static bodies never pair. The result is exactly the pairs whose bounding volumes
 // overlap (bruteForcePairs() tests every pair the same way), sorted. The work grows with the number
 // of bodies, not with the size of the scene.
