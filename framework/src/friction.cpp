@@ -24,9 +24,7 @@
 // thousandth of m g h would not help the benchmark heaps: after ten sweeps half or more of their
 // points still change by more.)
 #include <algorithm>
-#include <numeric>
 #include <optional>
-#include <tuple>
 
 #include "gpl/collision.h"
 #include "gpl/engine.h"
@@ -176,18 +174,26 @@ void PhysicsEngine::solveContacts() {
         }
     }
 
-    // Keep the sums for the next step, one entry per pair (the first contact of a pair that
-    // interpenetration found twice), sorted by pair. The indices are sorted, not the contacts
-    // (300 bytes each; they come nearly in pair order from the broad phase).
+    // Keep the sums for the next step, sorted by pair (a pair that interpenetration found twice
+    // keeps its contacts in their order; the first is the one warm starts find). The indices are
+    // sorted, not the contacts (176 bytes each): counted by the first body and placed in its range
+    // (linear, and in the contacts' order), then each body's few ordered by the second body.
+    ContactMemory& memory = contactMemory_;
+    memory.firstOf.assign(bodies_.size() + 1, 0);
+    for (const Contact& con : contacts_) ++memory.firstOf[con.a + 1];
+    for (std::size_t i = 0; i < bodies_.size(); ++i) memory.firstOf[i + 1] += memory.firstOf[i];
     std::vector<std::size_t>& order = order_;
     order.resize(contacts_.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [this](std::size_t x, std::size_t y) {
-        return std::tie(contacts_[x].a, contacts_[x].b) < std::tie(contacts_[y].a, contacts_[y].b);
-    });
-    ContactMemory& memory = contactMemory_;
+    placeAt_.assign(memory.firstOf.begin(), memory.firstOf.end() - 1);
+    for (std::size_t c = 0; c < contacts_.size(); ++c) order[placeAt_[contacts_[c].a]++] = c;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+        const auto begin = order.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[i]);
+        const auto end = order.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[i + 1]);
+        if (end - begin > 1) {
+            std::stable_sort(begin, end, [this](std::size_t x, std::size_t y) { return contacts_[x].b < contacts_[y].b; });
+        }
+    }
     memory.entries.resize(contacts_.size());
-    memory.firstOf.assign(bodies_.size() + 1, 0);
     for (std::size_t m = 0; m < order.size(); ++m) {
         const Contact& con = contacts_[order[m]];
         ContactMemory::Entry& e = memory.entries[m];
@@ -199,9 +205,7 @@ void PhysicsEngine::solveContacts() {
             e.points[k] = con.points[k];
             e.sums[k] = sums_[first[order[m]] + k];
         }
-        ++memory.firstOf[con.a + 1];
     }
-    for (std::size_t i = 0; i < bodies_.size(); ++i) memory.firstOf[i + 1] += memory.firstOf[i];
     recordOpenKernels();
 }
 
