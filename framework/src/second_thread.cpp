@@ -28,14 +28,19 @@ inline void pause() {
 #endif
 }
 
-// Spins until done() or `spin` has passed; true when done.
+// Spins until done() or `spin` has passed; true when done. Every few microseconds it offers the
+// core to any other thread that is waiting for it (another program, or a test run beside this one):
+// alone on its core, that returns at once.
 template <class Done>
 bool spinUntil(Done done, std::chrono::microseconds spin) {
     const auto until = std::chrono::steady_clock::now() + spin;
     for (int k = 0;; ++k) {
         if (done()) return true;
         pause();
-        if ((k & 63) == 63 && std::chrono::steady_clock::now() > until) return false;
+        if ((k & 63) == 63) {
+            if (std::chrono::steady_clock::now() > until) return false;
+            std::this_thread::yield();
+        }
     }
 }
 
