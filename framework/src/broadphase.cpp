@@ -4,6 +4,8 @@
 #include <cmath>
 #include <thread>
 
+#include "gpl/pair_order.h"
+
 namespace gpl {
 namespace {
 
@@ -94,16 +96,10 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
 }
 
 void BroadPhase::sortPairs(std::size_t bodies) {
-    // Counted by the first body, placed in its range, then each body's few pairs by the second:
-    // linear in bodies and pairs, where a comparison sort is not.
-    firsts_.assign(bodies + 1, 0);
-    for (const BodyPair& p : pairs_) ++firsts_[p.a + 1];
-    for (std::size_t i = 0; i < bodies; ++i) firsts_[i + 1] += firsts_[i];
+    orderByPair(pairs_.size(), bodies, [this](std::size_t i) { return pairs_[i].a; },
+                [this](std::size_t i) { return pairs_[i].b; }, pairOrder_, firsts_, cursor_);
     placed_.resize(pairs_.size());
-    for (const BodyPair& p : pairs_) placed_[firsts_[p.a]++] = p;  // firsts_[i] ends as the end of i's range
-    for (std::size_t i = 0, begin = 0; i < bodies; begin = firsts_[i++]) {
-        std::sort(placed_.begin() + static_cast<std::ptrdiff_t>(begin), placed_.begin() + static_cast<std::ptrdiff_t>(firsts_[i]));
-    }
+    for (std::size_t m = 0; m < pairOrder_.size(); ++m) placed_[m] = pairs_[pairOrder_[m]];
     pairs_.swap(placed_);
 }
 

@@ -29,6 +29,7 @@
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/friction.h"
+#include "gpl/pair_order.h"
 #include "gpl/rotation.h"
 
 namespace gpl {
@@ -176,23 +177,11 @@ void PhysicsEngine::solveContacts() {
 
     // Keep the sums for the next step, sorted by pair (a pair that interpenetration found twice
     // keeps its contacts in their order; the first is the one warm starts find). The indices are
-    // sorted, not the contacts (176 bytes each): counted by the first body and placed in its range
-    // (linear, and in the contacts' order), then each body's few ordered by the second body.
+    // sorted, not the contacts (176 bytes each).
     ContactMemory& memory = contactMemory_;
-    memory.firstOf.assign(bodies_.size() + 1, 0);
-    for (const Contact& con : contacts_) ++memory.firstOf[con.a + 1];
-    for (std::size_t i = 0; i < bodies_.size(); ++i) memory.firstOf[i + 1] += memory.firstOf[i];
     std::vector<std::size_t>& order = order_;
-    order.resize(contacts_.size());
-    placeAt_.assign(memory.firstOf.begin(), memory.firstOf.end() - 1);
-    for (std::size_t c = 0; c < contacts_.size(); ++c) order[placeAt_[contacts_[c].a]++] = c;
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        const auto begin = order.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[i]);
-        const auto end = order.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[i + 1]);
-        if (end - begin > 1) {
-            std::stable_sort(begin, end, [this](std::size_t x, std::size_t y) { return contacts_[x].b < contacts_[y].b; });
-        }
-    }
+    orderByPair(contacts_.size(), bodies_.size(), [this](std::size_t c) { return contacts_[c].a; },
+                [this](std::size_t c) { return contacts_[c].b; }, order, memory.firstOf, placeAt_);
     memory.entries.resize(contacts_.size());
     for (std::size_t m = 0; m < order.size(); ++m) {
         const Contact& con = contacts_[order[m]];

@@ -93,7 +93,9 @@ private:
     std::vector<std::size_t> planes_;
     std::vector<BodyPair> pairs_;
     std::vector<BodyPair> placed_;      ///< sortPairs()'s output, swapped with pairs_
-    std::vector<std::size_t> firsts_;   ///< sortPairs()'s count, then position, per first body
+    std::vector<std::size_t> pairOrder_;  ///< sortPairs()'s order of pairs_ (orderByPair())
+    std::vector<std::size_t> firsts_;     ///< sortPairs()'s range per first body
+    std::vector<std::size_t> cursor_;     ///< sortPairs()'s place per first body
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
     int threads_ = defaultThreads();
 

@@ -259,7 +259,7 @@ private:
     SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
     std::vector<std::size_t> firstPoint_;  ///< the friction stage's, per contact: its first point's index
     std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
-    std::vector<std::size_t> placeAt_;     ///< the friction stage's, per body: where its next contact's index goes
+    std::vector<std::size_t> placeAt_;     ///< the friction stage's buffer for orderByPair(), per body
     std::vector<int> found_;               ///< the friction stage's, per remembered pair: its contact now
 
     std::size_t bodyIndex(const std::string& name) const;
