@@ -46,21 +46,21 @@ const ContactMemory::Entry* remembered(const ContactMemory& memory, std::size_t 
 
 // Last step's sums of the point nearest to p (within kWarmStartDistance), with the friction sum
 // projected onto the plane perpendicular to n; zero sums when there is none.
-PointImpulse warmSums(const ContactMemory::Entry* old, const Vec3& p, const Vec3& n) {
+PointImpulse warmSums(const ContactMemory& memory, const ContactMemory::Entry* old, const Vec3& p, const Vec3& n) {
     PointImpulse s;
     if (old == nullptr) return s;
     double best = kWarmStartDistance * kWarmStartDistance;
-    int found = -1;
-    for (int k = 0; k < old->pointCount; ++k) {
-        const double d = (old->points[k] - p).squaredNorm();
+    std::size_t found = SIZE_MAX;
+    for (std::size_t k = old->first; k < old->first + old->pointCount; ++k) {
+        const double d = (memory.points[k] - p).squaredNorm();
         if (d <= best) {
             best = d;
             found = k;
         }
     }
-    if (found < 0) return s;
-    s.normal = old->sums[found].normal;
-    const Vec3& t = old->sums[found].tangent;
+    if (found == SIZE_MAX) return s;
+    s.normal = memory.sums[found].normal;
+    const Vec3& t = memory.sums[found].tangent;
     s.tangent = t - n.dot(t) * n;
     return s;
 }
@@ -133,7 +133,7 @@ void PhysicsEngine::solveContacts() {
         for (int k = 0; k < con.pointCount; ++k) {
             PointImpulse& s = sums_[first[c] + k];
             const double approach = normalVelocityAt(con, a, b, con.points[k]);
-            s = warmSums(old, con.points[k], con.normal);
+            s = warmSums(contactMemory_, old, con.points[k], con.normal);
             s.approach = approach;
         }
     }
@@ -183,16 +183,21 @@ void PhysicsEngine::solveContacts() {
     orderByPair(contacts_.size(), bodies_.size(), [this](std::size_t c) { return contacts_[c].a; },
                 [this](std::size_t c) { return contacts_[c].b; }, order, memory.firstOf, placeAt_);
     memory.entries.resize(contacts_.size());
+    memory.points.resize(first.back());
+    memory.sums.resize(first.back());
+    std::uint32_t next = 0;  // the next entry's first point
     for (std::size_t m = 0; m < order.size(); ++m) {
         const Contact& con = contacts_[order[m]];
         ContactMemory::Entry& e = memory.entries[m];
         e.a = con.a;
         e.b = con.b;
         e.normal = con.normal;
-        e.pointCount = con.pointCount;
-        for (int k = 0; k < con.pointCount; ++k) {
-            e.points[k] = con.points[k];
-            e.sums[k] = sums_[first[order[m]] + k];
+        e.first = next;
+        e.pointCount = static_cast<std::uint32_t>(con.pointCount);
+        for (int k = 0; k < con.pointCount; ++k, ++next) {
+            const PointImpulse& s = sums_[first[order[m]] + k];
+            memory.points[next] = con.points[k];
+            memory.sums[next] = {s.normal, s.tangent};
         }
     }
     recordOpenKernels();

@@ -112,20 +112,31 @@ void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::
                    const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
                    int sweeps, bool skipIdle = true);
 
-/// Last step's contact points and their sums, for warm starting (kept by the engine).
+/// Last step's contact points and their sums, for warm starting (kept by the engine). One entry per
+/// pair, and its points and their sums in arrays of their own: a sphere's contact has one point of
+/// kMaxContactPoints, and the stage reads the pairs (keeping resting contacts, finding last step's
+/// pair) far more often than their points.
 struct ContactMemory {
     struct Entry {
         std::size_t a = 0, b = 0;  ///< the pair's body indices
         Vec3 normal = Vec3::UnitY();
-        int pointCount = 0;
-        std::array<Vec3, kMaxContactPoints> points{};
-        std::array<PointImpulse, kMaxContactPoints> sums{};
+        std::uint32_t first = 0;       ///< its points' index in points and sums
+        std::uint32_t pointCount = 0;  ///< 1..kMaxContactPoints
+    };
+    /// What a point keeps of its sums: the normal and friction impulse (its approach is this step's).
+    struct Sums {
+        double normal = 0.0;
+        Vec3 tangent = Vec3::Zero();
     };
     std::vector<Entry> entries;  ///< sorted by (a, b)
+    std::vector<Vec3> points;    ///< the entries' points (m, world frame), entry by entry
+    std::vector<Sums> sums;      ///< and their sums
     /// The entries of pairs whose first body is a: [firstOf[a], firstOf[a + 1]).
     std::vector<std::size_t> firstOf;
     void clear() {
         entries.clear();
+        points.clear();
+        sums.clear();
         firstOf.clear();
     }
 };
