@@ -75,7 +75,7 @@ void Halves::copyStatics(const std::vector<Body>& bodies) {
     for (int half : {kLeft, kRight}) {
         copies_[half].clear();
         for (const std::size_t i : statics_) copies_[half].push_back(bodies[i]);
-        staticVersions_[half].assign(statics_.size(), 0);
+        staticVersions_[half].assign(statics_.size(), LineVersion{});
     }
 }
 
@@ -91,7 +91,7 @@ Body& Halves::body(int part, std::size_t i, std::vector<Body>& bodies) {
 }
 
 std::uint32_t& Halves::version(int part, std::size_t i) {
-    if (side_[i] == kNone) return part == kMiddle ? uncounted_ : staticVersions_[part][local_[i]];
+    if (side_[i] == kNone) return part == kMiddle ? uncounted_ : staticVersions_[part][local_[i]].value;
     return versions_[side_[i]][local_[i]];
 }
 
@@ -109,7 +109,7 @@ void Halves::mergeStatics(std::vector<Body>& bodies) {
         body.angularVelocity += w;
         for (int half : {kLeft, kRight}) {
             copies_[half][s] = body;
-            ++staticVersions_[half][s];
+            ++staticVersions_[half][s].value;
         }
     }
 }
@@ -186,8 +186,8 @@ void ContactSweeps::solve(Part& part, bool skipIdle) {
             applyFrictionImpulse(con, k, *job.invIa, *job.invIb, a, b, s);
             const bool aChanged = a.velocity != va || a.angularVelocity != wa;
             const bool bChanged = b.velocity != vb || b.angularVelocity != wb;
-            versionA += aChanged ? 1 : 0;
-            versionB += bChanged ? 1 : 0;
+            if (aChanged) ++versionA;  // written only on a change: a store would claim the line
+            if (bChanged) ++versionB;
             part.seenA[i] = versionA;
             part.seenB[i] = versionB;
             part.idle[i] = !aChanged && !bChanged && s.normal == sumWas.normal && s.tangent == sumWas.tangent;

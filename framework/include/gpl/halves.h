@@ -62,7 +62,12 @@ private:
     std::vector<double> along_;                 ///< their coordinates along the cut's axis
     std::vector<std::size_t> statics_;          ///< the static bodies of the halves' pairs
     std::array<std::vector<Body>, 2> copies_;   ///< per half, its copies of statics_
-    std::array<std::vector<std::uint32_t>, 2> staticVersions_;  ///< per half, per copy
+    /// A copy's version on a cache line of its own: both halves count changes to their copies of the
+    /// same static body at once, and two counters on one line would pass it between the cores.
+    struct alignas(64) LineVersion {
+        std::uint32_t value = 0;
+    };
+    std::array<std::vector<LineVersion>, 2> staticVersions_;  ///< per half, per copy
 
     void begin(const std::vector<Body>& bodies);
     void see(const std::vector<Body>& bodies, std::size_t i);
