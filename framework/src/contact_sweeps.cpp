@@ -30,12 +30,6 @@ void Halves::begin(const std::vector<Body>& bodies) {
     statics_.clear();
 }
 
-void Halves::see(const std::vector<Body>& bodies, std::size_t i) {
-    if (bodies[i].isStatic() || side_[i] != kNone) return;
-    side_[i] = kLeft;  // seen; its side follows in finish()
-    movable_.push_back(i);
-}
-
 void Halves::finish(const std::vector<Body>& bodies) {
     Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
     for (std::size_t k = 0; k < movable_.size(); ++k) {
@@ -77,22 +71,6 @@ void Halves::copyStatics(const std::vector<Body>& bodies) {
         for (const std::size_t i : statics_) copies_[half].push_back(bodies[i]);
         staticVersions_[half].assign(statics_.size(), LineVersion{});
     }
-}
-
-int Halves::part(std::size_t a, std::size_t b) const {
-    if (!cut_) return kMiddle;
-    const int sa = side_[a], sb = side_[b];
-    return sa == kNone ? sb : sb == kNone ? sa : sa == sb ? sa : kMiddle;
-}
-
-Body& Halves::body(int part, std::size_t i, std::vector<Body>& bodies) {
-    if (part != kMiddle && side_[i] == kNone) return copies_[part][local_[i]];
-    return bodies[i];
-}
-
-std::uint32_t& Halves::version(int part, std::size_t i) {
-    if (side_[i] == kNone) return part == kMiddle ? uncounted_ : staticVersions_[part][local_[i]].value;
-    return versions_[side_[i]][local_[i]];
 }
 
 void Halves::mergeStatics(std::vector<Body>& bodies) {

@@ -24,7 +24,7 @@ namespace gpl {
 
 class Halves {
 public:
-    static constexpr int kLeft = 0, kRight = 1, kMiddle = 2;
+    static constexpr int kLeft = 0, kRight = 1, kMiddle = 2, kNone = 3;
 
     /// Cuts the movable bodies of `pairs` (anything with body indices .a and .b).
     template <class Pair>
@@ -38,19 +38,28 @@ public:
     /// No cut: every body on one side, every pair in the middle (a small stage).
     void whole(std::size_t bodies);
 
-    /// The part of a pair of bodies: kLeft, kRight or kMiddle.
-    int part(std::size_t a, std::size_t b) const;
+    /// The part of a pair of bodies: kLeft, kRight or kMiddle (a pair of two static bodies: kNone).
+    int part(std::size_t a, std::size_t b) const {
+        if (!cut_) return kMiddle;
+        const int sa = side_[a], sb = side_[b];
+        return sa == kNone ? sb : sb == kNone ? sa : sa == sb ? sa : kMiddle;
+    }
     /// Body i as part `part` sees it: a static body's copy in a half, otherwise the body.
-    Body& body(int part, std::size_t i, std::vector<Body>& bodies);
+    Body& body(int part, std::size_t i, std::vector<Body>& bodies) {
+        if (part != kMiddle && side_[i] == kNone) return copies_[part][local_[i]];
+        return bodies[i];
+    }
     /// Body i's version as part `part` sees it (its copy's for a static body in a half).
-    std::uint32_t& version(int part, std::size_t i);
+    std::uint32_t& version(int part, std::size_t i) {
+        if (side_[i] == kNone) return part == kMiddle ? uncounted_ : staticVersions_[part][local_[i]].value;
+        return versions_[side_[i]][local_[i]];
+    }
     /// After the halves: what they did to their copies of the static bodies reaches the bodies, and
     /// the copies start again from the bodies.
     void mergeStatics(std::vector<Body>& bodies);
     bool cutInTwo() const { return cut_; }
 
 private:
-    static constexpr int kNone = 3;  ///< a static body's side (or a body of no pair)
     bool cut_ = false;
     /// What version() gives for a body of no side in the middle, where no pair has one (a pair of a
     /// static body belongs to its other body's half): never compared, but never out of range.
@@ -70,7 +79,11 @@ private:
     std::array<std::vector<LineVersion>, 2> staticVersions_;  ///< per half, per copy
 
     void begin(const std::vector<Body>& bodies);
-    void see(const std::vector<Body>& bodies, std::size_t i);
+    void see(const std::vector<Body>& bodies, std::size_t i) {
+        if (bodies[i].isStatic() || side_[i] != kNone) return;
+        side_[i] = kLeft;  // seen; its side follows in finish()
+        movable_.push_back(i);
+    }
     void finish(const std::vector<Body>& bodies);
     void registerStatics(std::size_t a, std::size_t b);
     void copyStatics(const std::vector<Body>& bodies);
