@@ -32,7 +32,9 @@ public:
         begin(bodies);
         for (const Pair& p : pairs) see(bodies, p.a), see(bodies, p.b);
         finish(bodies);
-        for (const Pair& p : pairs) registerStatics(p.a, p.b);
+        for (const Pair& p : pairs) {
+            if (side_[p.a] == kNone || side_[p.b] == kNone) registerStatics(p.a, p.b);  // most pairs have none
+        }
         copyStatics(bodies);
     }
     /// No cut: every body on one side, every pair in the middle (a small stage).
