@@ -4,6 +4,7 @@ option and says what it expects. Nothing is built or graded: each command stops 
 import os
 import pathlib
 import subprocess
+import sys
 import tempfile
 import unittest
 
@@ -129,7 +130,7 @@ class CommandLineErrors(unittest.TestCase):
 
     def test_tools(self):
         for args, option, says in TOOL_CASES:
-            self.check(["python3", *args], option, says)
+            self.check([sys.executable, *args], option, says)
 
     def test_a_good_value_is_taken(self):
         # The checks let good values through: the same options with values that are right.

@@ -234,7 +234,7 @@ class Misbehaving(unittest.TestCase):
 
     def check(self, name):
         results = self.results[name]
-        check = subprocess.run(["python3", str(CHECK_GRADESCOPE), "/dev/stdin"], input=json.dumps(results),
+        check = subprocess.run([sys.executable, str(CHECK_GRADESCOPE), "/dev/stdin"], input=json.dumps(results),
                                capture_output=True, text=True)
         self.assertEqual(check.returncode, 0, check.stdout)
         expected = EXPECTED[name]

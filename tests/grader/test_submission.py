@@ -4,6 +4,7 @@ import json
 import pathlib
 import shutil
 import subprocess
+import sys
 import tempfile
 import unittest
 
@@ -68,7 +69,7 @@ class Submission(unittest.TestCase):
         failed = {t["name"] for t in data["tests"] if t["status"] == "failed"}
         self.assertIn("Worksheet1.OneStepIsSemiImplicitEuler", failed)
         self.assertLess(data["score"], data["max_score"])
-        check = subprocess.run(["python3", str(CHECK_GRADESCOPE), str(results)], capture_output=True, text=True)
+        check = subprocess.run([sys.executable, str(CHECK_GRADESCOPE), str(results)], capture_output=True, text=True)
         self.assertEqual(check.returncode, 0, check.stdout)
 
     def test_a_submission_that_does_not_compile_scores_zero_with_the_error(self):
