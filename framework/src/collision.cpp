@@ -35,14 +35,9 @@ int shapeOrder(Shape s) { return s == Shape::Sphere ? 0 : s == Shape::Box ? 1 : 
 }  // namespace
 
 std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j) {
-    return collide(bodies[i], i, bodies[j], j);
-}
-
-std::optional<Contact> collide(const Body& bi, std::size_t i, const Body& bj, std::size_t j) {
-    const bool swap = shapeOrder(bi.shape) > shapeOrder(bj.shape);  // sphere, box, plane
-    if (swap) std::swap(i, j);
-    const Body& p = swap ? bj : bi;
-    const Body& q = swap ? bi : bj;
+    if (shapeOrder(bodies[i].shape) > shapeOrder(bodies[j].shape)) std::swap(i, j);  // sphere, box, plane
+    const Body& p = bodies[i];
+    const Body& q = bodies[j];
     std::optional<Contact> c = kernelContact(p, q);
     if (c) {
         c->a = i;

@@ -7,8 +7,7 @@
 //
 // Looking again costs only where something moved: the collision kernels are pure, so a near pair
 // found apart stays apart until one of its bodies moves, and is not tested again before that. The
-// results are those of testing every pair in every sweep. A large stage moves two halves of its
-// pairs at once (OverlapSweeps, overlap_sweeps.cpp), the same to the bit on one thread.
+// results are those of testing every pair in every sweep.
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"
@@ -21,27 +20,43 @@ void PhysicsEngine::resolveInterpenetrations() {
     const bool ropes = stageActive(Stage::Ropes);
     pairInContacts_.resize(nearPairs_.size(), 0);
     ropeInContacts_.resize(ropes_.size(), 0);
-    // The near pairs: a large stage without ropes in two halves, at once on the second thread.
-    SecondThread* second = threads() > 1 && nearPairs_.size() >= OverlapSweeps::kSplitFrom ? &second_ : nullptr;
-    overlapSweeps_.begin(nearPairs_, pairInContacts_, bodies_, !ropes);
+    // Moves counted so far; per body, the count when it last moved; per near pair, the count when
+    // it was last found apart (kOverlapped until then, and again once it overlaps).
+    constexpr std::size_t kOverlapped = SIZE_MAX;
+    std::size_t moves = 0;
+    movedAt_.assign(bodies_.size(), 0);
+    apartAt_.assign(nearPairs_.size(), kOverlapped);
+    // Moves the bodies of an overlap apart; a contact not among contacts() yet joins them.
+    const auto separate = [this, &moves](const Contact& c, char& inContacts) {
+        Body& a = bodies_[c.a];
+        Body& b = bodies_[c.b];
+        const Vec3 wasA = a.position, wasB = b.position;
+        resolveInterpenetration(c, a, b);
+        ++moves;
+        if (a.position != wasA) movedAt_[c.a] = moves;
+        if (b.position != wasB) movedAt_[c.b] = moves;  // a static body never moves
+        if (!inContacts) contacts_.push_back(c);
+        inContacts = 1;
+    };
     for (int sweep = 0; sweep < contactIterations_; ++sweep) {
-        bool overlapping = overlapSweeps_.sweep(bodies_, contacts_, second);
+        bool overlapping = false;
+        for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
+            const BodyPair& pair = nearPairs_[k];
+            if (apartAt_[k] != kOverlapped && movedAt_[pair.a] <= apartAt_[k] && movedAt_[pair.b] <= apartAt_[k]) {
+                continue;  // apart, and neither body has moved since
+            }
+            const std::optional<Contact> c = collide(bodies_, pair.a, pair.b);
+            apartAt_[k] = c ? kOverlapped : moves;
+            if (c) separate(*c, pairInContacts_[k]);
+            overlapping |= c.has_value();
+        }
         for (std::size_t k = 0; ropes && k < ropes_.size(); ++k) {
             const std::optional<Contact> c = ropeContactOf(ropes_[k]);
-            if (!c) continue;
-            overlapping = true;
-            Body& a = bodies_[c->a];
-            Body& b = bodies_[c->b];
-            const Vec3 wasA = a.position, wasB = b.position;
-            resolveInterpenetration(*c, a, b);
-            if (a.position != wasA) overlapSweeps_.moved(c->a);  // its near pairs are tested again
-            if (b.position != wasB) overlapSweeps_.moved(c->b);
-            if (!ropeInContacts_[k]) contacts_.push_back(*c);
-            ropeInContacts_[k] = 1;
+            if (c) separate(*c, ropeInContacts_[k]);
+            overlapping |= c.has_value();
         }
         if (!overlapping) break;
     }
-    overlapSweeps_.end(pairInContacts_);
     recordOpenKernels();
     // Without impulses, contacts are position-based (as in worksheet 2): the velocity follows the
     // correction, so a ball that lands stops instead of pressing on ever faster. With impulses,

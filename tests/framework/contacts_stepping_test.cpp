@@ -13,7 +13,6 @@
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/friction.h"
-#include "gpl/overlap_sweeps.h"
 #include "gpl/rotation.h"
 #include "gpl/scenes.h"
 
@@ -327,93 +326,6 @@ TEST(Contacts, FrictionSweepsInHalvesOnTwoThreadsGiveTheSameStateAsOnOne) {
     // Ten sweeps from zero sums take nine tenths of the worst approach away (measured: 1.17 -> 0.07 m/s).
     EXPECT_GT(worstApproach(one), 0.1 * worstApproach(heap.bodies));
 }
-
-// The landed heap one step on: every body moved by h times its velocity (gravity's included), so
-// that the resting ones overlap a little, as the interpenetration stage finds them.
-struct OverlappingHeap {
-    std::vector<Body> bodies;
-    std::vector<BodyPair> pairs;  // every near pair, in the bodies' order
-    std::vector<char> inContacts;
-};
-
-OverlappingHeap overlappingHeap(int count, int side) {
-    OverlappingHeap heap;
-    heap.bodies = landedHeap(count, side).bodies;
-    for (Body& b : heap.bodies) b.position += (1.0 / 60.0) * b.velocity;
-    heap.pairs = bruteForcePairs(heap.bodies, kContactMargin);
-    heap.inContacts.assign(heap.pairs.size(), 0);
-    return heap;
-}
-
-// The sweeps' result: the bodies' positions, and the contacts found in the order they were found.
-struct Moved {
-    std::vector<Body> bodies;
-    std::vector<Contact> contacts;
-    int sweeps = 0;
-};
-
-Moved moveApart(const OverlappingHeap& heap, bool skipApart, SecondThread* second, OverlapSweeps& sweeps) {
-    Moved m{heap.bodies, {}, 0};
-    sweeps.begin(heap.pairs, heap.inContacts, m.bodies, true, skipApart);
-    for (; m.sweeps < 10;) {
-        ++m.sweeps;
-        if (!sweeps.sweep(m.bodies, m.contacts, second)) break;
-    }
-    return m;
-}
-
-void expectSameState(const Moved& x, const Moved& y) {
-    EXPECT_EQ(x.sweeps, y.sweeps);
-    ASSERT_EQ(x.contacts.size(), y.contacts.size());
-    for (std::size_t c = 0; c < x.contacts.size(); ++c) {
-        ASSERT_EQ(x.contacts[c].a, y.contacts[c].a) << "contact " << c;
-        ASSERT_EQ(x.contacts[c].b, y.contacts[c].b) << "contact " << c;
-        ASSERT_EQ(x.contacts[c].depth, y.contacts[c].depth) << "contact " << c;
-    }
-    for (std::size_t i = 0; i < x.bodies.size(); ++i) ASSERT_EQ(x.bodies[i].position, y.bodies[i].position) << "body " << i;
-}
-
-TEST(Contacts, OverlapSweepsSkipOnlyPairsThatWouldNotChange) {
-    // Sweeps that skip the pairs found apart whose bodies have not moved since, and sweeps that test
-    // every pair, give the same positions and contacts to the bit: in a heap moved in the pairs'
-    // order, and in one large enough to be cut in halves.
-    for (const auto& [count, side] : {std::pair{150, 5}, std::pair{1000, 14}}) {
-        SCOPED_TRACE(std::to_string(count) + " bodies");
-        const OverlappingHeap heap = overlappingHeap(count, side);
-        if (count > 150) ASSERT_GE(heap.pairs.size(), OverlapSweeps::kSplitFrom);  // cut in halves
-        OverlapSweeps skipping, testing;
-        const Moved skipped = moveApart(heap, true, nullptr, skipping);
-        const Moved tested = moveApart(heap, false, nullptr, testing);
-        EXPECT_GT(skipped.contacts.size(), heap.bodies.size() / 4);  // bodies resting on others and the floor
-        expectSameState(skipped, tested);
-    }
-}
-
-TEST(Contacts, OverlapSweepsInHalvesOnTwoThreadsGiveTheSameStateAsOnOne) {
-    // The heap cut in halves: moved apart at once on two threads, and one half after the other on one.
-    const OverlappingHeap heap = overlappingHeap(1000, 14);
-    ASSERT_GE(heap.pairs.size(), OverlapSweeps::kSplitFrom);
-    OverlapSweeps oneThread;
-    const Moved one = moveApart(heap, true, nullptr, oneThread);
-    SecondThread second;
-    OverlapSweeps twoThreads;
-    for (int step = 0; step < 2; ++step) {  // the second time, the thread is there already
-        SCOPED_TRACE("run " + std::to_string(step));
-        expectSameState(one, moveApart(heap, true, &second, twoThreads));
-    }
-    // And the sweeps did their work: the deepest overlap is far less than before them.
-    const auto deepest = [&heap](const std::vector<Body>& bodies) {
-        double worst = 0.0;  // m
-        for (const BodyPair& p : heap.pairs) {
-            if (const std::optional<Contact> c = collide(bodies, p.a, p.b)) worst = std::max(worst, c->depth);
-        }
-        return worst;
-    };
-    const double before = deepest(heap.bodies), after = deepest(one.bodies);
-    EXPECT_GT(before, 1e-3);  // a step of falling into the heap: about g h^2 = 2.7 mm and more
-    EXPECT_LT(after, 0.1 * before);  // ten Gauss-Seidel sweeps leave less than a tenth of it
-}
-
 
 TEST(Contacts, SecondThreadRunsBothHalvesAndHandsBackWhatTheirsThrew) {
     SecondThread second;

@@ -39,8 +39,6 @@ std::optional<Contact> boxBox(const Body& a, const Body& b);
 /// the sphere into the box or plane and from the box into the plane. Two planes and two static
 /// bodies have no contact.
 std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j);
-/// The same for body i and body j given apart from the engine's list (a copy of a static body).
-std::optional<Contact> collide(const Body& bi, std::size_t i, const Body& bj, std::size_t j);
 
 /// Speed (m/s) at which the bodies of the contact approach each other along its normal:
 /// (v_b - v_a) . n; negative while they approach, positive while they separate.

@@ -33,7 +33,6 @@
 #include "gpl/forces.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
-#include "gpl/overlap_sweeps.h"
 #include "gpl/stages.h"
 
 namespace gpl {
@@ -241,7 +240,8 @@ private:
     std::vector<BodyPair> nearPairs_;  ///< this step's broad-phase pairs with kContactMargin, likewise
     std::vector<char> pairInContacts_;  ///< per near pair: its contact is in contacts_ (0 or 1)
     std::vector<char> ropeInContacts_;  ///< per rope: its contact is in contacts_ (0 or 1)
-    OverlapSweeps overlapSweeps_;       ///< the interpenetration stage's sweeps over the near pairs
+    std::vector<std::size_t> movedAt_;  ///< interpenetration's, per body: moves counted when it last moved
+    std::vector<std::size_t> apartAt_;  ///< interpenetration's, per near pair: moves counted when last found apart
     int contactIterations_ = 10;
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
