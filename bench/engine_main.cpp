@@ -9,8 +9,10 @@
 #include <cmath>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <sstream>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "command_line.h"
@@ -168,7 +170,8 @@ int main(int argc, char** argv) {
         const std::string stem = boxes ? "engine-boxes" : "engine";  // of the files written
         std::cout << (boxes ? "heap of cubes (half side 0.3 m, 1 kg, turned at random" : "heap of spheres (r = 0.5 m, 1 kg")
                   << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
-                  << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling; "
+                  << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling, "
+                  << (bullet ? "the two engines taking turns of " + std::to_string(gpl::bench::kTurn) + " steps; " : std::string())
                   << "this engine's broad phase and friction stage on " << threads
                   << (threads == 1 ? " thread\n" : " threads\n")
                   << "friction " << gpl::bench::kFriction << " and restitution 0 in both engines (this engine: "
@@ -182,9 +185,11 @@ int main(int argc, char** argv) {
         csv << "bodies,engine,steps,median_ms,p90_ms,contacts_per_step,deepest_m,height_m,kinetic_j\n";
         std::vector<HeapRun> ours, theirs;
         for (std::size_t n : sizes) {
-            const double seconds = gpl::bench::settleTime(n);
-            std::vector<HeapRun> pair{gpl::bench::runOurs(shape, n, seconds, threads)};
-            if (bullet) pair.push_back(gpl::bench::runBullet(shape, n, seconds));
+            const std::unique_ptr<gpl::bench::HeapSim> mine = gpl::bench::ourHeap(shape, n, threads);
+            const std::unique_ptr<gpl::bench::HeapSim> other = bullet ? gpl::bench::bulletHeap(shape, n) : nullptr;
+            std::vector<std::pair<std::string, gpl::bench::HeapSim*>> engines{{"ours", mine.get()}};
+            if (bullet) engines.emplace_back("Bullet", other.get());
+            const std::vector<HeapRun> pair = gpl::bench::runInTurns(shape, n, gpl::bench::settleTime(n), engines);
             ours.push_back(pair[0]);
             if (bullet) theirs.push_back(pair[1]);
             for (const HeapRun& r : pair) {

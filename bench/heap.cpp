@@ -43,24 +43,38 @@ std::vector<Quat> heapOrientations(std::size_t n) {
     return q;
 }
 
-void timeSteps(double seconds, const std::function<void()>& step, const std::function<double()>& contacts,
-               HeapRun& run) {
+std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
+                                const std::vector<std::pair<std::string, HeapSim*>>& engines) {
     const auto steps = static_cast<std::size_t>(std::ceil(seconds / kTimeStep));
-    std::vector<double> stepMs;
-    stepMs.reserve(steps);
-    double total = 0.0;
-    for (std::size_t s = 0; s < steps; ++s) {
-        const auto start = std::chrono::steady_clock::now();
-        step();
-        stepMs.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-        total += contacts();
+    std::vector<std::vector<double>> stepMs(engines.size());
+    std::vector<double> points(engines.size(), 0.0);
+    for (std::size_t done = 0; done < steps; done += kTurn) {
+        for (std::size_t e = 0; e < engines.size(); ++e) {
+            for (std::size_t s = done; s < std::min(steps, done + kTurn); ++s) {
+                const auto start = std::chrono::steady_clock::now();
+                engines[e].second->step();
+                stepMs[e].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+                points[e] += engines[e].second->contactPoints();
+            }
+        }
     }
-    run.contactsPerStep = steps ? total / static_cast<double>(steps) : 0.0;
-    run.steps = stepMs.size();
-    if (stepMs.empty()) return;
-    std::sort(stepMs.begin(), stepMs.end());
-    run.medianMs = stepMs[stepMs.size() / 2];
-    run.p90Ms = stepMs[std::min(stepMs.size() - 1, stepMs.size() * 9 / 10)];
+    std::vector<HeapRun> runs(engines.size());
+    for (std::size_t e = 0; e < engines.size(); ++e) {
+        HeapRun& run = runs[e];
+        run.engine = engines[e].first;
+        run.shape = shape;
+        run.bodies = n;
+        run.steps = steps;
+        if (steps > 0) {
+            run.contactsPerStep = points[e] / static_cast<double>(steps);
+            std::vector<double>& ms = stepMs[e];
+            std::sort(ms.begin(), ms.end());
+            run.medianMs = ms[ms.size() / 2];
+            run.p90Ms = ms[std::min(ms.size() - 1, ms.size() * 9 / 10)];
+        }
+        measureQuality(engines[e].second->state(), run);
+    }
+    return runs;
 }
 
 namespace {
@@ -138,41 +152,50 @@ double settleTime(std::size_t n) {
     return std::sqrt(2.0 * top / 9.81) + 3.0;
 }
 
-HeapRun runOurs(HeapShape shape, std::size_t n, double seconds, int threads) {
-    PhysicsEngine e;
-    e.setThreads(threads);
-    StageSet stages{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection, Stage::Interpenetration,
-                    Stage::CollisionImpulses, Stage::Friction};
-    if (shape == HeapShape::Boxes) stages.insert(Stage::Rotation);
-    e.setRequiredStages(stages);
-    e.setTimeStep(kTimeStep);
-    e.setContactIterations(kIterations);
-    e.add(plane("ground", Vec3::UnitY()).rough(kFriction, kFriction));
-    const std::vector<Vec3> at = heapPositions(n);
-    const std::vector<Quat> turn = heapOrientations(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::string name = "body" + std::to_string(i);
-        Body b = shape == HeapShape::Spheres ? sphere(name, kRadius, kMass) : box(name, Vec3::Constant(kHalfSide), kMass).rotated(turn[i]);
-        e.add(b.at(at[i]).bouncy(0.0).rough(kFriction, kFriction));
+namespace {
+
+class OurHeap final : public HeapSim {
+public:
+    OurHeap(HeapShape shape, std::size_t n, int threads) {
+        e_.setThreads(threads);
+        StageSet stages{Stage::ConstantAcceleration, Stage::Integration, Stage::CollisionDetection,
+                        Stage::Interpenetration, Stage::CollisionImpulses, Stage::Friction};
+        if (shape == HeapShape::Boxes) stages.insert(Stage::Rotation);
+        e_.setRequiredStages(stages);
+        e_.setTimeStep(kTimeStep);
+        e_.setContactIterations(kIterations);
+        e_.add(plane("ground", Vec3::UnitY()).rough(kFriction, kFriction));
+        const std::vector<Vec3> at = heapPositions(n);
+        const std::vector<Quat> turn = heapOrientations(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const std::string name = "body" + std::to_string(i);
+            Body b = shape == HeapShape::Spheres ? sphere(name, kRadius, kMass)
+                                                 : box(name, Vec3::Constant(kHalfSide), kMass).rotated(turn[i]);
+            e_.add(b.at(at[i]).bouncy(0.0).rough(kFriction, kFriction));
+        }
     }
-    HeapRun run;
-    run.engine = "ours";
-    run.shape = shape;
-    run.bodies = n;
-    // Contact points, as Bullet's manifolds count them (a sphere's contact has one, a cube's up to 4).
-    const auto points = [&e] {
+    void step() override { e_.step(); }
+    double contactPoints() const override {
         double count = 0.0;
-        for (const Contact& c : e.contacts()) count += c.pointCount;
+        for (const Contact& c : e_.contacts()) count += c.pointCount;
         return count;
-    };
-    timeSteps(seconds, [&e] { e.step(); }, points, run);
-    std::vector<HeapBody> end;
-    for (const Body& b : e.bodies()) {
-        if (b.isStatic()) continue;
-        end.push_back({b.position, b.orientation, b.velocity, b.angularVelocity});
     }
-    measureQuality(end, run);
-    return run;
+    std::vector<HeapBody> state() const override {
+        std::vector<HeapBody> bodies;
+        for (const Body& b : e_.bodies()) {
+            if (!b.isStatic()) bodies.push_back({b.position, b.orientation, b.velocity, b.angularVelocity});
+        }
+        return bodies;
+    }
+
+private:
+    PhysicsEngine e_;
+};
+
+}  // namespace
+
+std::unique_ptr<HeapSim> ourHeap(HeapShape shape, std::size_t n, int threads) {
+    return std::make_unique<OurHeap>(shape, n, threads);
 }
 
 }  // namespace gpl::bench

@@ -5,8 +5,9 @@
 #pragma once
 
 #include <cstddef>
-#include <functional>
+#include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gpl/math.h"
@@ -52,10 +53,35 @@ struct HeapRun {
     double kinetic = 0.0;        ///< J: kinetic energy at the end, translation and rotation (settled: near 0)
 };
 
-/// Steps an engine through `seconds` of simulated time, timing each step (median and 90th
-/// percentile into run) and counting its contacts after it (mean into run.contactsPerStep).
-void timeSteps(double seconds, const std::function<void()>& step, const std::function<double()>& contacts,
-               HeapRun& run);
+/// One engine's heap, stepped from outside, so that two engines can take turns on the machine.
+class HeapSim {
+public:
+    virtual ~HeapSim() = default;
+    virtual void step() = 0;
+    /// Contact points after the last step, as Bullet's manifolds count them (a sphere's contact has
+    /// one, a cube's up to 4).
+    virtual double contactPoints() const = 0;
+    /// The movable bodies now.
+    virtual std::vector<HeapBody> state() const = 0;
+};
+
+/// This engine (the hooks it is linked with) on the heap, its broad phase and friction stage with
+/// this many threads; cubes with the rotation stage (worksheet 6).
+std::unique_ptr<HeapSim> ourHeap(HeapShape shape, std::size_t n, int threads);
+/// Bullet's default pipeline on the same heap; only when built with Bullet (hasBullet()).
+std::unique_ptr<HeapSim> bulletHeap(HeapShape shape, std::size_t n);
+bool hasBullet();
+
+/// Steps of one engine in a turn of runInTurns().
+constexpr std::size_t kTurn = 10;
+
+/// Steps each engine through `seconds` of simulated time, the engines taking turns of kTurn steps
+/// (A's first ten, B's first ten, A's next ten, ...), each step timed: a busy moment of the machine
+/// then slows both engines' steps of the same stretch of the fall, not one engine's whole run, so
+/// their ratio holds from run to run. Per engine, in the order given: the step times (median, 90th
+/// percentile), contact points per step (mean) and the quality of the heap at the end.
+std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
+                                const std::vector<std::pair<std::string, HeapSim*>>& engines);
 
 /// The quality figures of the heap's state at the end, into run (run.shape says what the bodies
 /// are). Both engines' states are measured alike: the overlaps of cubes by this engine's reference
@@ -65,12 +91,5 @@ void measureQuality(const std::vector<HeapBody>& bodies, HeapRun& run);
 /// Simulated time (s) the heap of n bodies needs to fall and settle: the fall from the top layer
 /// plus 3 s.
 double settleTime(std::size_t n);
-
-/// This engine (the hooks it is linked with) on the heap, its broad phase with this many threads;
-/// cubes with the rotation stage (worksheet 6).
-HeapRun runOurs(HeapShape shape, std::size_t n, double seconds, int threads);
-/// Bullet's default pipeline on the same heap; only when built with Bullet (hasBullet()).
-HeapRun runBullet(HeapShape shape, std::size_t n, double seconds);
-bool hasBullet();
 
 }  // namespace gpl::bench

@@ -8,7 +8,7 @@ namespace gpl::bench {
 
 bool hasBullet() { return false; }
 
-HeapRun runBullet(HeapShape, std::size_t, double) {
+std::unique_ptr<HeapSim> bulletHeap(HeapShape, std::size_t) {
     throw std::runtime_error("built without Bullet (Debian libbullet-dev): ./lab bench engine installs it");
 }
 
