@@ -18,9 +18,12 @@ set format x '10^{%L}'
 set format y '10^{%L}'
 set grid
 set key top left
-stats data using 1:2 nooutput
-first_n = STATS_min_x
-first_ms = STATS_min_y
+# One column at a time: stats on two columns fits a line and warns when there are only two sizes.
+stats data using 1 nooutput
+first_n = STATS_min
+if (STATS_max == STATS_min) set xrange [first_n / 2 : first_n * 2]  # one size: an x range around it
+stats data using 2 nooutput
+first_ms = STATS_min
 plot data using 1:2 with linespoints lw 2 pt 7 lc 1 title 'this engine', \
      data using 1:3 with linespoints lw 2 pt 5 lc 2 title 'Bullet', \
      first_ms * x / first_n with lines dt 2 lc 0 title 'proportional to N'

@@ -29,6 +29,11 @@ using gpl::study::fixed;
 using gpl::study::pad;
 using gpl::study::sci;
 
+// The default heaps: spheres up to 27 000 (about two and a half minutes for that size alone here,
+// Bullet's steps the most of it), cubes up to 8000 (their steps cost several times a sphere's).
+const std::vector<std::size_t> kSphereSizes{100, 300, 1000, 3000, 8000, 27000};
+const std::vector<std::size_t> kBoxSizes{100, 300, 1000, 3000, 8000};
+
 // Least-squares slope of log(ms per step) against log(N): the scaling exponent (1: linear).
 double scalingExponent(const std::vector<HeapRun>& runs) {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
@@ -140,20 +145,21 @@ void secondThreadGain(std::ostream& out) {
 
 int main(int argc, char** argv) {
     CLI::App app{"This engine against Bullet on the same heap of spheres or cubes (./lab bench engine)"};
-    std::vector<std::size_t> sizes{100, 300, 1000, 3000, 8000};
+    std::vector<std::size_t> sizes;  // default: kSphereSizes or kBoxSizes
     std::string out = "build/engine";
     bool skipBullet = false;
     std::string shapeName = "sphere";
     int threads = gpl::PhysicsEngine().threads();
     app.add_option("--shape", shapeName, "what the heap is made of: sphere (radius 0.5 m) or box (cubes of half side 0.3 m)")
         ->check(CLI::IsMember({"sphere", "box"}));
-    app.add_option("--sizes", sizes, "numbers of bodies, e.g. --sizes 1000 8000")
+    app.add_option("--sizes", sizes, "numbers of bodies, e.g. --sizes 1000 8000 (default: 100 300 1000 3000 8000 27000 spheres, up to 8000 cubes)")
         ->check(gpl::cli::wholeNumber(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");
     app.add_option("--threads", threads, "threads of this engine's broad phase and friction stage (1 or 2; default: 2 on two cores)")
         ->check(gpl::cli::wholeNumber(1, 2));
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
+    if (sizes.empty()) sizes = shapeName == "box" ? kBoxSizes : kSphereSizes;
     if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
         std::cerr << error << '\n';
         return 2;
@@ -210,10 +216,14 @@ int main(int argc, char** argv) {
             dat << ours[i].bodies << ' ' << ours[i].medianMs << ' ' << (bullet ? theirs[i].medianMs : std::nan(""))
                 << '\n';
         }
-        std::cout << "\nscaling exponent of ms per step against N (least squares on log-log): this engine "
-                  << fixed(scalingExponent(ours), 2);
-        if (bullet) std::cout << ", Bullet " << fixed(scalingExponent(theirs), 2);
-        std::cout << '\n';
+        if (sizes.size() < 2) {
+            std::cout << "\nscaling exponent of ms per step against N: needs two sizes or more (--sizes)\n";
+        } else {
+            std::cout << "\nscaling exponent of ms per step against N (least squares on log-log): this engine "
+                      << fixed(scalingExponent(ours), 2);
+            if (bullet) std::cout << ", Bullet " << fixed(scalingExponent(theirs), 2);
+            std::cout << '\n';
+        }
         if (!boxes) integrationAlone(1000, 2000, std::cout);
         if (threads > 1) secondThreadGain(std::cout);
         std::cout << "\nwrote";
