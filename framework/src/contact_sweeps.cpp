@@ -20,6 +20,7 @@ void Halves::whole(std::size_t bodies) {
     for (std::size_t i = 0; i < bodies; ++i) local_[i] = i;
     versions_[kLeft].assign(bodies, 0);
     statics_.clear();
+    across_.clear();
 }
 
 void Halves::begin(const std::vector<Body>& bodies) {
@@ -28,6 +29,8 @@ void Halves::begin(const std::vector<Body>& bodies) {
     local_.assign(bodies.size(), 0);
     movable_.clear();
     statics_.clear();
+    across_.clear();
+    isAcross_.assign(bodies.size(), 0);
 }
 
 void Halves::finish(const std::vector<Body>& bodies) {
@@ -47,13 +50,54 @@ void Halves::finish(const std::vector<Body>& bodies) {
         std::nth_element(along_.begin(), middle, along_.end());
         median = *middle;
     }
-    for (int half : {kLeft, kRight}) versions_[half].clear();
+    for (int half : {kLeft, kRight}) members_[half].clear();
     for (const std::size_t i : movable_) {
         const int s = bodies[i].position[axis] < median ? kLeft : kRight;
         side_[i] = s;
-        local_[i] = versions_[s].size();
-        versions_[s].push_back(0);
+        local_[i] = members_[s].size();
+        members_[s].push_back(i);
     }
+    for (int half : {kLeft, kRight}) {
+        versions_[half].assign(members_[half].size(), 0);
+        packed_[half].resize(members_[half].size());  // for the parts to point at; pack() fills them
+    }
+}
+
+namespace {
+
+// What a time step changes in a body (the rest, its shape, mass properties, material and name, only
+// a scene sets): all that a kernel of the stage may have written to a copy, by design (the
+// velocities) or by mistake, without the cost of copying the whole body (its name among it).
+void copyMotion(const Body& from, Body& to) {
+    to.position = from.position;
+    to.velocity = from.velocity;
+    to.acceleration = from.acceleration;
+    to.angularVelocity = from.angularVelocity;
+    to.orientation = from.orientation;
+    to.force = from.force;
+    to.torque = from.torque;
+}
+
+}  // namespace
+
+void Halves::pack(const std::vector<Body>& bodies) {
+    for (int half : {kLeft, kRight}) {
+        for (std::size_t k = 0; k < members_[half].size(); ++k) packed_[half][k] = bodies[members_[half][k]];
+    }
+}
+
+void Halves::unpack(std::vector<Body>& bodies) const {
+    for (int half : {kLeft, kRight}) {
+        for (std::size_t k = 0; k < members_[half].size(); ++k) copyMotion(packed_[half][k], bodies[members_[half][k]]);
+    }
+}
+
+void Halves::acrossToBodies(std::vector<Body>& bodies) const {
+    for (const std::size_t i : across_) copyMotion(packed_[side_[i]][local_[i]], bodies[i]);
+}
+
+void Halves::acrossToHalves(const std::vector<Body>& bodies) {
+    for (const std::size_t i : across_) copyMotion(bodies[i], packed_[side_[i]][local_[i]]);
 }
 
 void Halves::registerStatics(std::size_t a, std::size_t b) {
@@ -97,10 +141,12 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
                         const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
                         int sweeps, bool skipIdle, SecondThread* second) {
     split(contacts, first, invI, bodies, sums);
+    const bool cut = halves_.cutInTwo();
+    if (cut) halves_.pack(bodies);
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
     const std::function<void()> right = [this, skipIdle] { solve(parts_[Halves::kRight], skipIdle); };
     for (int sweep = 0; sweep < sweeps; ++sweep) {
-        if (halves_.cutInTwo()) {
+        if (cut) {
             if (second != nullptr) {
                 second->run(true, left, right);
             } else {
@@ -108,9 +154,12 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
                 right();
             }
             halves_.mergeStatics(bodies);
+            halves_.acrossToBodies(bodies);
         }
         solve(parts_[Halves::kMiddle], skipIdle);
+        if (cut) halves_.acrossToHalves(bodies);
     }
+    if (cut) halves_.unpack(bodies);
     for (const Part& part : parts_) {
         for (const Job& job : part.jobs) {
             for (int k = 0; k < job.contact->pointCount; ++k) sums[job.global + k] = part.sums[job.point + k];
