@@ -15,6 +15,7 @@ namespace gpl {
 
 void Halves::whole(std::size_t bodies) {
     cut_ = false;
+    packed_ = false;
     side_.assign(bodies, kLeft);
     local_.resize(bodies);
     for (std::size_t i = 0; i < bodies; ++i) local_[i] = i;
@@ -59,7 +60,8 @@ void Halves::finish(const std::vector<Body>& bodies) {
     }
     for (int half : {kLeft, kRight}) {
         versions_[half].assign(members_[half].size(), 0);
-        packed_[half].resize(members_[half].size());  // for the parts to point at; pack() fills them
+        // For the parts to point at; pack() fills them.
+        if (packed_) packs_[half].resize(members_[half].size());
     }
 }
 
@@ -81,23 +83,27 @@ void copyMotion(const Body& from, Body& to) {
 }  // namespace
 
 void Halves::pack(const std::vector<Body>& bodies) {
+    if (!packed_) return;
     for (int half : {kLeft, kRight}) {
-        for (std::size_t k = 0; k < members_[half].size(); ++k) packed_[half][k] = bodies[members_[half][k]];
+        for (std::size_t k = 0; k < members_[half].size(); ++k) packs_[half][k] = bodies[members_[half][k]];
     }
 }
 
 void Halves::unpack(std::vector<Body>& bodies) const {
+    if (!packed_) return;
     for (int half : {kLeft, kRight}) {
-        for (std::size_t k = 0; k < members_[half].size(); ++k) copyMotion(packed_[half][k], bodies[members_[half][k]]);
+        for (std::size_t k = 0; k < members_[half].size(); ++k) copyMotion(packs_[half][k], bodies[members_[half][k]]);
     }
 }
 
 void Halves::acrossToBodies(std::vector<Body>& bodies) const {
-    for (const std::size_t i : across_) copyMotion(packed_[side_[i]][local_[i]], bodies[i]);
+    if (!packed_) return;
+    for (const std::size_t i : across_) copyMotion(packs_[side_[i]][local_[i]], bodies[i]);
 }
 
 void Halves::acrossToHalves(const std::vector<Body>& bodies) {
-    for (const std::size_t i : across_) copyMotion(bodies[i], packed_[side_[i]][local_[i]]);
+    if (!packed_) return;
+    for (const std::size_t i : across_) copyMotion(bodies[i], packs_[side_[i]][local_[i]]);
 }
 
 void Halves::registerStatics(std::size_t a, std::size_t b) {
@@ -140,7 +146,7 @@ void Halves::mergeStatics(std::vector<Body>& bodies) {
 void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                         const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
                         int sweeps, bool skipIdle, SecondThread* second) {
-    split(contacts, first, invI, bodies, sums);
+    split(contacts, first, invI, bodies, sums, second != nullptr);
     const bool cut = halves_.cutInTwo();
     if (cut) halves_.pack(bodies);
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
@@ -169,11 +175,11 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
 
 void ContactSweeps::split(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                           const std::vector<Mat3>& invI, std::vector<Body>& bodies,
-                          const std::vector<PointImpulse>& sums) {
+                          const std::vector<PointImpulse>& sums, bool packed) {
     if (sums.size() < kSplitFrom) {
         halves_.whole(bodies.size());
     } else {
-        halves_.cut(bodies, contacts);
+        halves_.cut(bodies, contacts, packed);
     }
     for (Part& part : parts_) {
         part.jobs.clear();

@@ -102,9 +102,10 @@ private:
     std::array<Part, 3> parts_;  ///< left half, right half, middle
     Halves halves_;
 
-    /// The halves and the parts' jobs for this stage.
+    /// The halves (packed for two threads) and the parts' jobs for this stage.
     void split(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
-               const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums);
+               const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums,
+               bool packed);
     static void solve(Part& part, bool skipIdle);
 };
 /// ContactSweeps().run(...) on one thread (for tests).

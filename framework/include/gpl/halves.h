@@ -14,7 +14,9 @@
 // half's bodies in the engine's array, the two threads slowed each other: with the copies the whole
 // run takes 0.93 of the time on the 8000-sphere heap, 0.97 on the 1000-sphere and the 1000-cube
 // heaps (farm-bench, in pairs). The bodies of pairs across the cut are copied to the engine's array
-// before the middle is solved, and back after it.
+// before the middle is solved, and back after it. Without a second thread there is no other thread
+// to keep apart from, and the halves solve the bodies where they are (the copies cost 2 % there):
+// the same state to the bit, which the tests of one thread against two check.
 //
 // Each body also has a version that counts its changes, kept per side (a thread writes only its own
 // side's), for stages that skip what nothing has changed since it was last looked at.
@@ -33,9 +35,11 @@ class Halves {
 public:
     static constexpr int kLeft = 0, kRight = 1, kMiddle = 2, kNone = 3;
 
-    /// Cuts the movable bodies of `pairs` (anything with body indices .a and .b).
+    /// Cuts the movable bodies of `pairs` (anything with body indices .a and .b); with `packed`, the
+    /// halves solve packed copies of their movable bodies.
     template <class Pair>
-    void cut(const std::vector<Body>& bodies, const std::vector<Pair>& pairs) {
+    void cut(const std::vector<Body>& bodies, const std::vector<Pair>& pairs, bool packed) {
+        packed_ = packed;
         begin(bodies);
         for (const Pair& p : pairs) see(bodies, p.a), see(bodies, p.b);
         finish(bodies);
@@ -54,11 +58,11 @@ public:
         const int sa = side_[a], sb = side_[b];
         return sa == kNone ? sb : sb == kNone ? sa : sa == sb ? sa : kMiddle;
     }
-    /// Body i as part `part` sees it: in a half, the half's copy (of a static body) or its packed
-    /// copy (of a movable one), which pack() fills; in the middle, the body.
+    /// Body i as part `part` sees it: in a half, the half's copy (of a static body) or, when packed,
+    /// its packed copy (of a movable one), which pack() fills; otherwise the body.
     Body& body(int part, std::size_t i, std::vector<Body>& bodies) {
-        if (part == kMiddle) return bodies[i];
-        return side_[i] == kNone ? copies_[part][local_[i]] : packed_[part][local_[i]];
+        if (part == kMiddle || (!packed_ && side_[i] != kNone)) return bodies[i];
+        return side_[i] == kNone ? copies_[part][local_[i]] : packs_[part][local_[i]];
     }
     /// Body i's version as part `part` sees it (its copy's for a static body in a half).
     std::uint32_t& version(int part, std::size_t i) {
@@ -68,27 +72,28 @@ public:
     /// After the halves: what they did to their copies of the static bodies reaches the bodies, and
     /// the copies start again from the bodies.
     void mergeStatics(std::vector<Body>& bodies);
-    /// Copies the halves' movable bodies into their packed copies (before the stage's first sweep)
-    /// and back (after its last). Both here, on the caller's thread: each half's thread copying its
+    /// When packed: copies the halves' movable bodies into their packed copies (before the stage's
+    /// first sweep) and back (after its last). Both here, on the caller's thread: each half's thread copying its
     /// own was slower (1.06 of the time at 1000 spheres), as the caller then reads the bodies from
     /// the other core's cache.
     void pack(const std::vector<Body>& bodies);
     void unpack(std::vector<Body>& bodies) const;
-    /// The bodies of the pairs across the cut, from the halves' packed copies to the bodies (before
-    /// the middle is solved) and back (after).
+    /// When packed: the bodies of the pairs across the cut, from the halves' packed copies to the
+    /// bodies (before the middle is solved) and back (after).
     void acrossToBodies(std::vector<Body>& bodies) const;
     void acrossToHalves(const std::vector<Body>& bodies);
     bool cutInTwo() const { return cut_; }
 
 private:
     bool cut_ = false;
+    bool packed_ = false;
     /// What version() gives for a body of no side in the middle, where no pair has one (a pair of a
     /// static body belongs to its other body's half): never compared, but never out of range.
     std::uint32_t uncounted_ = 0;
     std::vector<int> side_;                     ///< per body: kLeft, kRight, or kNone (static)
     std::vector<std::size_t> local_;            ///< per body: its place in its side's members_ (or statics_)
     std::array<std::vector<std::size_t>, 2> members_;     ///< per side, its movable bodies
-    std::array<std::vector<Body>, 2> packed_;             ///< per side, copies of members_
+    std::array<std::vector<Body>, 2> packs_;              ///< per side, copies of members_ (when packed_)
     std::array<std::vector<std::uint32_t>, 2> versions_;  ///< per side, per movable body
     std::vector<std::size_t> across_;           ///< the movable bodies of the pairs across the cut
     std::vector<char> isAcross_;                ///< per body: in across_
