@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
     int threads = gpl::PhysicsEngine().threads();
     app.add_option("--shape", shapeName, "what the heap is made of: sphere (radius 0.5 m) or box (cubes of half side 0.3 m)")
         ->check(CLI::IsMember({"sphere", "box"}));
-    app.add_option("--sizes", sizes, "numbers of bodies, e.g. --sizes 1000 8000 (default: 100 300 1000 3000 8000 27000 spheres, up to 8000 cubes)")
+    app.add_option("--sizes", sizes, "numbers of bodies (default: 100 300 1000 3000 8000 27000 spheres, to 8000 cubes)")
         ->check(gpl::cli::wholeNumber(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");

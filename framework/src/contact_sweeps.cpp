@@ -148,7 +148,7 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
                         int sweeps, bool skipIdle, SecondThread* second) {
     split(contacts, first, invI, bodies, sums, second != nullptr);
     const bool cut = halves_.cutInTwo();
-    if (cut) halves_.pack(bodies);
+    halves_.pack(bodies);  // this and the other copies: only when the halves are packed
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
     const std::function<void()> right = [this, skipIdle] { solve(parts_[Halves::kRight], skipIdle); };
     for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -163,9 +163,9 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
             halves_.acrossToBodies(bodies);
         }
         solve(parts_[Halves::kMiddle], skipIdle);
-        if (cut) halves_.acrossToHalves(bodies);
+        halves_.acrossToHalves(bodies);
     }
-    if (cut) halves_.unpack(bodies);
+    halves_.unpack(bodies);
     for (const Part& part : parts_) {
         for (const Job& job : part.jobs) {
             for (int k = 0; k < job.contact->pointCount; ++k) sums[job.global + k] = part.sums[job.point + k];

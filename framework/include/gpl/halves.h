@@ -45,7 +45,7 @@ public:
         finish(bodies);
         for (const Pair& p : pairs) {
             if (side_[p.a] == kNone || side_[p.b] == kNone) registerStatics(p.a, p.b);  // most pairs have none
-            if (part(p.a, p.b) == kMiddle) registerAcross(p.a), registerAcross(p.b);
+            if (packed_ && part(p.a, p.b) == kMiddle) registerAcross(p.a), registerAcross(p.b);
         }
         copyStatics(bodies);
     }
@@ -73,13 +73,13 @@ public:
     /// the copies start again from the bodies.
     void mergeStatics(std::vector<Body>& bodies);
     /// When packed: copies the halves' movable bodies into their packed copies (before the stage's
-    /// first sweep) and back (after its last). Both here, on the caller's thread: each half's thread copying its
-    /// own was slower (1.06 of the time at 1000 spheres), as the caller then reads the bodies from
-    /// the other core's cache.
+    /// first sweep) and back (after its last), both on the caller's thread: each half's thread
+    /// copying its own was slower (1.06 of the time at 1000 spheres), as the caller then reads the
+    /// bodies from the other core's cache. Otherwise nothing.
     void pack(const std::vector<Body>& bodies);
     void unpack(std::vector<Body>& bodies) const;
     /// When packed: the bodies of the pairs across the cut, from the halves' packed copies to the
-    /// bodies (before the middle is solved) and back (after).
+    /// bodies (before the middle is solved) and back (after). Otherwise nothing.
     void acrossToBodies(std::vector<Body>& bodies) const;
     void acrossToHalves(const std::vector<Body>& bodies);
     bool cutInTwo() const { return cut_; }
