@@ -16,6 +16,8 @@
 //          and the sum becomes mu_d j_n J / |J| (against the sliding). The difference (new sum - old
 //          sum) goes to the bodies at p through applyImpulseAtPoint(). A point that does not slide
 //          (u_t = 0) keeps its sum, clamped likewise.
+#include <cmath>
+
 #include "gpl/friction.h"
 #include "gpl/hooks.h"
 #include "gpl/response.h"

@@ -150,6 +150,7 @@ int main(int argc, char** argv) {
     bool skipBullet = false;
     std::string shapeName = "sphere";
     int threads = gpl::PhysicsEngine().threads();
+    int interpenetration = gpl::bench::kInterpenetrationIterations;
     app.add_option("--shape", shapeName, "what the heap is made of: sphere (radius 0.5 m) or box (cubes of half side 0.3 m)")
         ->check(CLI::IsMember({"sphere", "box"}));
     app.add_option("--sizes", sizes, "numbers of bodies (default: 100 300 1000 3000 8000 27000 spheres, to 8000 cubes)")
@@ -158,6 +159,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-bullet", skipBullet, "this engine only");
     app.add_option("--threads", threads, "threads of this engine's broad phase and friction stage (1 or 2; default: 2 on two cores)")
         ->check(gpl::cli::wholeNumber(1, 2));
+    app.add_option("--interpenetration", interpenetration,
+                   "this engine's sweeps of interpenetration per step (default: 3; 10: as many as the solver's)")
+        ->check(gpl::cli::wholeNumber(1, 100));
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     if (sizes.empty()) sizes = shapeName == "box" ? kBoxSizes : kSphereSizes;
     if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
@@ -176,7 +180,8 @@ int main(int argc, char** argv) {
         const std::string stem = boxes ? "engine-boxes" : "engine";  // of the files written
         std::cout << (boxes ? "heap of cubes (half side 0.3 m, 1 kg, turned at random" : "heap of spheres (r = 0.5 m, 1 kg")
                   << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
-                  << gpl::bench::kIterations << " solver iterations; times per step over the whole fall and settling, "
+                  << gpl::bench::kIterations << " solver iterations (this engine: " << interpenetration
+                  << " sweeps of interpenetration); times per step over the whole fall and settling, "
                   << (bullet ? "the two engines taking turns of " + std::to_string(gpl::bench::kTurn) + " steps; " : std::string())
                   << "this engine's broad phase and friction stage on " << threads
                   << (threads == 1 ? " thread\n" : " threads\n")
@@ -191,7 +196,7 @@ int main(int argc, char** argv) {
         csv << "bodies,engine,steps,median_ms,p90_ms,contacts_per_step,deepest_m,height_m,kinetic_j\n";
         std::vector<HeapRun> ours, theirs;
         for (std::size_t n : sizes) {
-            const std::unique_ptr<gpl::bench::HeapSim> mine = gpl::bench::ourHeap(shape, n, threads);
+            const std::unique_ptr<gpl::bench::HeapSim> mine = gpl::bench::ourHeap(shape, n, threads, interpenetration);
             const std::unique_ptr<gpl::bench::HeapSim> other = bullet ? gpl::bench::bulletHeap(shape, n) : nullptr;
             std::vector<std::pair<std::string, gpl::bench::HeapSim*>> engines{{"ours", mine.get()}};
             if (bullet) engines.emplace_back("Bullet", other.get());

@@ -24,6 +24,11 @@ constexpr double kSpacing = 1.2;      // m between lattice points
 constexpr double kFriction = 0.5;
 constexpr double kTimeStep = 1.0 / 60.0;  // s
 constexpr int kIterations = 10;       // sweeps of the contact solver per step
+/// This engine's sweeps of interpenetration per step (its position iterations): fewer than the
+/// solver's, as Box2D's 3 position iterations beside 8 velocity iterations. Bullet has no such
+/// sweeps (it pushes overlaps apart through its solver's velocities); the overlaps each engine
+/// leaves are in the table. `--interpenetration N` sets it (10: as many as the solver's).
+constexpr int kInterpenetrationIterations = 3;
 
 /// The lattice points of the heap: side = ceil(cbrt(n)) along x and z, as many layers as it takes,
 /// centred on the y axis, the lowest 1 m above the plane, each jittered by up to 0.05 m.
@@ -48,7 +53,7 @@ struct HeapRun {
     double medianMs = 0.0;       ///< per step
     double p90Ms = 0.0;          ///< per step
     double contactsPerStep = 0.0;  ///< mean over the steps
-    double deepest = 0.0;        ///< m: largest overlap between bodies or with the plane, at the end
+    double deepest = 0.0;        ///< m: largest overlap between bodies or with the plane in the last second
     double height = 0.0;         ///< m: the top of the settled heap (highest sphere's top, cube's corner)
     double kinetic = 0.0;        ///< J: kinetic energy at the end, translation and rotation (settled: near 0)
 };
@@ -66,25 +71,30 @@ public:
 };
 
 /// This engine (the hooks it is linked with) on the heap, its broad phase and friction stage with
-/// this many threads; cubes with the rotation stage (worksheet 6).
-std::unique_ptr<HeapSim> ourHeap(HeapShape shape, std::size_t n, int threads);
+/// this many threads, `interpenetration` sweeps of interpenetration a step; cubes with the rotation
+/// stage (worksheet 6).
+std::unique_ptr<HeapSim> ourHeap(HeapShape shape, std::size_t n, int threads,
+                                 int interpenetration = kInterpenetrationIterations);
 /// Bullet's default pipeline on the same heap; only when built with Bullet (hasBullet()).
 std::unique_ptr<HeapSim> bulletHeap(HeapShape shape, std::size_t n);
 bool hasBullet();
 
 /// Steps of one engine in a turn of runInTurns().
 constexpr std::size_t kTurn = 10;
+/// The last steps whose overlaps count in HeapRun::deepest: one second.
+constexpr std::size_t kQualitySteps = 60;
 
 /// Steps each engine through `seconds` of simulated time, the engines taking turns of kTurn steps
 /// (A's first ten, B's first ten, A's next ten, ...), each step timed: a busy moment of the machine
 /// then slows both engines' steps of the same stretch of the fall, not one engine's whole run, so
 /// their ratio holds from run to run. Per engine, in the order given: the step times (median, 90th
-/// percentile), contact points per step (mean) and the quality of the heap at the end.
+/// percentile), contact points per step (mean) and the quality of the heap: its height and kinetic
+/// energy at the end, its deepest overlap over the last kQualitySteps steps (measured between the
+/// timed steps), so that one lucky or unlucky last step does not decide it.
 std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
                                 const std::vector<std::pair<std::string, HeapSim*>>& engines);
 
-/// The quality figures of the heap's state at the end, into run (run.shape says what the bodies
-/// are). Both engines' states are measured alike: the overlaps of cubes by this engine's reference
+/// The quality figures of a state of the heap, into run (run.shape says what the bodies are). Both engines' states are measured alike: the overlaps of cubes by this engine's reference
 /// kernels boxBox() and boxPlane() (worksheet 5), of spheres by their distances.
 void measureQuality(const std::vector<HeapBody>& bodies, HeapRun& run);
 

@@ -16,6 +16,8 @@
 //          and the sum becomes mu_d j_n J / |J| (against the sliding). The difference (new sum - old
 //          sum) goes to the bodies at p through applyImpulseAtPoint(). A point that does not slide
 //          (u_t = 0) keeps its sum, clamped likewise.
+#include <cmath>
+
 #include "gpl/friction.h"
 #include "gpl/hooks.h"
 #include "gpl/response.h"
@@ -33,13 +35,14 @@ void applyFrictionImpulse([[maybe_unused]] const Contact& contact, [[maybe_unuse
     const Vec3 ra = p - a.position, rb = p - b.position;  // m
     const Vec3 u = b.velocity + b.angularVelocity.cross(rb) - (a.velocity + a.angularVelocity.cross(ra));
     const Vec3 slip = u - n.dot(u) * n;  // u_t (m/s)
-    const double slipSpeed = slip.norm();
+    const double slip2 = slip.squaredNorm();  // |u_t|^2
     Vec3 total = sum.tangent;  // N s
-    if (slipSpeed > 0.0) {
-        const Vec3 t = slip / slipSpeed;
-        const Vec3 spin = (invIb * rb.cross(t)).cross(rb) + (invIa * ra.cross(t)).cross(ra);
-        const double wt = b.invMass + a.invMass + spin.dot(t);  // 1/kg
-        if (wt > 0.0) total -= (slipSpeed / wt) * t;
+    if (slip2 > 0.0) {
+        // w_t is a quadratic form in t, so w_t |u_t|^2 is the same form in u_t: the impulse
+        // -(|u_t| / w_t) t = -(|u_t|^2 / (w_t |u_t|^2)) u_t needs neither t nor a square root.
+        const Vec3 spin = (invIb * rb.cross(slip)).cross(rb) + (invIa * ra.cross(slip)).cross(ra);
+        const double wSlip2 = (b.invMass + a.invMass) * slip2 + spin.dot(slip);  // w_t |u_t|^2 (m^2/(s^2 kg))
+        if (wSlip2 > 0.0) total -= (slip2 / wSlip2) * slip;
     }
     // Sticks while |J| <= mu_s j_n, compared squared: a point that sticks takes no square root.
     const double limit = contact.staticFriction * sum.normal;

@@ -164,6 +164,14 @@ void PhysicsEngine::setContactIterations(int iterations) {
     contactIterations_ = iterations;
 }
 
+void PhysicsEngine::setInterpenetrationIterations(int iterations) {
+    if (iterations < 0) {
+        throw std::invalid_argument("interpenetration iterations must be at least 1 (or 0: as many as the contact "
+                                    "iterations), got " + std::to_string(iterations));
+    }
+    interpenetrationIterations_ = iterations;
+}
+
 void PhysicsEngine::setThreads(int threads) {
     if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
     broadPhase_.setThreads(threads);

@@ -38,7 +38,7 @@ void PhysicsEngine::resolveInterpenetrations() {
         if (!inContacts) contacts_.push_back(c);
         inContacts = 1;
     };
-    for (int sweep = 0; sweep < contactIterations_; ++sweep) {
+    for (int sweep = 0; sweep < interpenetrationIterations(); ++sweep) {
         bool overlapping = false;
         for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
             const BodyPair& pair = nearPairs_[k];

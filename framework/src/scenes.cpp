@@ -74,6 +74,7 @@ void load(PhysicsEngine& engine, const Scene& scene) {
     const PhysicsEngine defaults;
     engine.setConstraintIterations(defaults.constraintIterations());
     engine.setContactIterations(defaults.contactIterations());
+    engine.setInterpenetrationIterations(0);  // as many as the contact iterations
     if (scene.build) scene.build(engine);
 }
 

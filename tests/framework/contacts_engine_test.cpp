@@ -89,6 +89,24 @@ TEST(ContactInput, ContactIterationsAtLeastOne) {
     EXPECT_EQ(engine.contactIterations(), 3);
 }
 
+TEST(ContactInput, InterpenetrationIterationsFollowTheContactIterationsUnlessSet) {
+    PhysicsEngine engine;
+    EXPECT_EQ(engine.interpenetrationIterations(), 10);
+    engine.setContactIterations(6);
+    EXPECT_EQ(engine.interpenetrationIterations(), 6) << "not set: as many as the contact iterations";
+    engine.setInterpenetrationIterations(2);
+    EXPECT_EQ(engine.interpenetrationIterations(), 2);
+    EXPECT_EQ(engine.contactIterations(), 6) << "the impulses' sweeps stay";
+    expectMentions(errorOf([&] { engine.setInterpenetrationIterations(-1); }), "interpenetration iterations",
+                   "at least 1");
+    EXPECT_EQ(engine.interpenetrationIterations(), 2) << "a refused setting changes nothing";
+    engine.setInterpenetrationIterations(0);
+    EXPECT_EQ(engine.interpenetrationIterations(), 6) << "0: as many as the contact iterations again";
+    engine.setInterpenetrationIterations(2);
+    load(engine, scenes().find("box-stack"));
+    EXPECT_EQ(engine.interpenetrationIterations(), engine.contactIterations()) << "a scene starts from the defaults";
+}
+
 TEST(ContactEngine, RemovingABodyTakesItsRopesAlongAndRenumbersTheRest) {
     PhysicsEngine engine;
     engine.add(sphere("a", 0.1, 1.0).at({0, 0, 0}));

@@ -124,6 +124,27 @@ TEST(Contacts, MoreIterationsLeaveLessOverlapInAStack) {
     EXPECT_LT(previous, 1e-3 * 0.5);  // 32 sweeps for 8 spheres: a thousandth of the radius at most
 }
 
+TEST(Contacts, InterpenetrationSweepsAreTheirOwnSetting) {
+    // The column above with 32 impulse sweeps: fewer sweeps of interpenetration alone leave more
+    // overlap, and interpenetration set to 32 is the same to the bit as not set.
+    const auto column = [](int interpenetration) {
+        PhysicsEngine e;
+        e.setRequiredStages(kPositional);
+        e.setContactIterations(32);
+        e.setInterpenetrationIterations(interpenetration);
+        e.add(plane("floor", Vec3::UnitY()));
+        for (int i = 0; i < 8; ++i) e.add(sphere("s" + std::to_string(i), 0.5, 1.0).at({0, 0.5 + 1.0 * i, 0}));
+        for (int i = 0; i < 200; ++i) e.step();
+        return e;
+    };
+    const double one = largestOverlap(column(1)), all = largestOverlap(column(32));
+    EXPECT_GT(one, 2.0 * all) << "1 sweep against 32";
+    const PhysicsEngine notSet = column(0), set = column(32);
+    for (std::size_t i = 0; i < set.bodies().size(); ++i) {
+        EXPECT_EQ(set.bodies()[i].position, notSet.bodies()[i].position) << set.bodies()[i].name;
+    }
+}
+
 TEST(Contacts, RopeHoldsAPendulumAtItsLength) {
     // A ball on a 2 m rope released sideways: the rope never stretches beyond its length by more
     // than one step's outward drift (v h)^2 / (2 L) once resolved, and the ball swings below the anchor.

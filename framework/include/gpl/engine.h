@@ -111,6 +111,14 @@ public:
     /// finds nothing to do ends the stage early.
     int contactIterations() const { return contactIterations_; }
     void setContactIterations(int iterations);
+    /// Sweeps per step of interpenetration alone: as many as contactIterations() unless set (0, the
+    /// default, restores that). A scene may want fewer, as a solver runs fewer position iterations
+    /// than velocity iterations: the friction stage keeps the gaps the impulses have closed, so
+    /// overlaps shrink over the steps instead of within one. Throws std::invalid_argument below 0.
+    int interpenetrationIterations() const {
+        return interpenetrationIterations_ > 0 ? interpenetrationIterations_ : contactIterations_;
+    }
+    void setInterpenetrationIterations(int iterations);
     /// Threads the broad phase and the friction stage may use: 1, or 2 (the default on a machine
     /// with two cores or more), which they use only for scenes large enough to gain (the second
     /// thread is made then, and kept by the engine); the results are the same to the bit either way.
@@ -243,6 +251,7 @@ private:
     std::vector<std::size_t> movedAt_;  ///< interpenetration's, per body: moves counted when it last moved
     std::vector<std::size_t> apartAt_;  ///< interpenetration's, per near pair: moves counted when last found apart
     int contactIterations_ = 10;
+    int interpenetrationIterations_ = 0;  ///< 0: as many as contactIterations_
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
     ContactMemory contactMemory_;       ///< the friction stage's sums of last step, for warm starting
