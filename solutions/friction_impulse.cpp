@@ -40,8 +40,10 @@ void applyFrictionImpulse([[maybe_unused]] const Contact& contact, [[maybe_unuse
     if (slip2 > 0.0) {
         // w_t is a quadratic form in t, so w_t |u_t|^2 is the same form in u_t: the impulse
         // -(|u_t| / w_t) t = -(|u_t|^2 / (w_t |u_t|^2)) u_t needs neither t nor a square root.
-        const Vec3 spin = (invIb * rb.cross(slip)).cross(rb) + (invIa * ra.cross(slip)).cross(ra);
-        const double wSlip2 = (b.invMass + a.invMass) * slip2 + spin.dot(slip);  // w_t |u_t|^2 (m^2/(s^2 kg))
+        // Its angular terms as (r x u_t) . I^-1 (r x u_t), which is u_t . ((I^-1 (r x u_t)) x r).
+        const Vec3 raSlip = ra.cross(slip), rbSlip = rb.cross(slip);
+        const double spin = rbSlip.dot(invIb * rbSlip) + raSlip.dot(invIa * raSlip);
+        const double wSlip2 = (b.invMass + a.invMass) * slip2 + spin;  // w_t |u_t|^2 (m^2/(s^2 kg))
         if (wSlip2 > 0.0) total -= (slip2 / wSlip2) * slip;
     }
     // Sticks while |J| <= mu_s j_n, compared squared: a point that sticks takes no square root.

@@ -34,9 +34,11 @@ void applyNormalImpulse([[maybe_unused]] const Contact& contact, [[maybe_unused]
     const Vec3 ra = p - a.position, rb = p - b.position;  // m
     const Vec3 moving = b.velocity + b.angularVelocity.cross(rb) - (a.velocity + a.angularVelocity.cross(ra));
     const double vn = n.dot(moving);  // m/s
-    // 1 / effective mass along n at p (1/kg).
-    const Vec3 spin = (invIb * rb.cross(n)).cross(rb) + (invIa * ra.cross(n)).cross(ra);
-    const double wn = b.invMass + a.invMass + spin.dot(n);
+    // 1 / effective mass along n at p (1/kg); its angular terms as (r x n) . I^-1 (r x n), which is
+    // n . ((I^-1 (r x n)) x r) (a scalar triple product read the other way).
+    const Vec3 ran = ra.cross(n), rbn = rb.cross(n);
+    const double spin = rbn.dot(invIb * rbn) + ran.dot(invIa * ran);
+    const double wn = b.invMass + a.invMass + spin;
     if (!(wn > 0.0)) return;
     const double target = sum.approach < -kRestingSpeed ? -contact.restitution * sum.approach : 0.0;
     const double total = std::max(0.0, sum.normal + (target - vn) / wn);  // N s, the clamped sum
