@@ -58,8 +58,46 @@ constexpr std::uint64_t rowOffset(long dx, long dy) {
 
 }  // namespace
 
+bool BroadPhase::keptPairsHold(const std::vector<Body>& bodies, double margin) {
+    now_.resize(bodies.size());
+    bool hold = margin == grownMargin_ && bodies.size() == grown_.size();
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        const Body& b = bodies[i];
+        if (b.shape == Shape::Plane) {
+            hold = hold && b.position == grown_[i].min && planeNormal(b) == grown_[i].max && b.isStatic() == wasStatic_[i];
+            continue;
+        }
+        now_[i] = boundingBox(b, margin);
+        hold = hold && b.isStatic() == static_cast<bool>(wasStatic_[i]) &&
+               (grown_[i].min.array() <= now_[i].min.array()).all() && (now_[i].max.array() <= grown_[i].max.array()).all();
+    }
+    return hold;
+}
+
+void BroadPhase::filterKept(const std::vector<Body>& bodies) {
+    pairs_.clear();
+    for (const BodyPair& p : kept_) {
+        const Body& a = bodies[p.a];
+        const Body& b = bodies[p.b];
+        bool touch = false;
+        if (a.shape == Shape::Plane) {
+            touch = reachesPlane(now_[p.b], grown_[p.a].min, grown_[p.a].max);
+        } else if (b.shape == Shape::Plane) {
+            touch = reachesPlane(now_[p.a], grown_[p.b].min, grown_[p.b].max);
+        } else {
+            touch = overlap(now_[p.a], now_[p.b]);
+        }
+        if (touch) pairs_.push_back(p);
+    }
+}
+
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
-                                                   SecondThread* second) {
+                                                   SecondThread* second, double ahead) {
+    if (keptPairsHold(bodies, margin)) {
+        filterKept(bodies);
+        return pairs_;
+    }
+    ++searches_;
     if (threads_ < 2) second = nullptr;
     if (second != nullptr && bodies.size() >= kGridFrom) second->wake();  // up by the time the boxes are made
     pairs_.clear();
@@ -73,7 +111,10 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
             planes_.push_back(i);
             continue;
         }
-        const Aabb box = boundingBox(bodies[i], margin);
+        Aabb box = boundingBox(bodies[i], margin + kSkin);
+        const Vec3 reach = ahead * bodies[i].velocity;  // m, where the velocity carries it
+        box.min += reach.cwiseMin(Vec3::Zero());
+        box.max += reach.cwiseMax(Vec3::Zero());
         entries_.push_back({box, i, bodies[i].isStatic()});
         sizes_.push_back((box.max - box.min).maxCoeff());
     }
@@ -92,6 +133,16 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
         }
     }
     sortPairs(bodies.size());
+
+    // Kept, with the grown boxes, for the next calls; this call's answer from them.
+    grown_.resize(bodies.size());
+    wasStatic_.resize(bodies.size());
+    for (const Entry& e : entries_) grown_[e.index] = e.box;
+    for (const std::size_t plane : planes_) grown_[plane] = {bodies[plane].position, planeNormal(bodies[plane])};
+    for (std::size_t i = 0; i < bodies.size(); ++i) wasStatic_[i] = bodies[i].isStatic();
+    grownMargin_ = margin;
+    kept_.swap(pairs_);
+    filterKept(bodies);
     return pairs_;
 }
 

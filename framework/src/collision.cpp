@@ -56,7 +56,7 @@ double normalVelocity(const Contact& contact, const Body& a, const Body& b) {
 void PhysicsEngine::detectCollisions() {
     // The pairs near enough to touch soon: interpenetration looks among them for the overlaps
     // that its own moves create.
-    const std::vector<BodyPair>& pairs = broadPhase_.findPairs(bodies_, kContactMargin, &second_);
+    const std::vector<BodyPair>& pairs = broadPhase_.findPairs(bodies_, kContactMargin, &second_, kPairsAhead * timeStep_);
     nearPairs_.assign(pairs.begin(), pairs.end());
     pairInContacts_.assign(nearPairs_.size(), 0);
     for (std::size_t k = 0; k < nearPairs_.size(); ++k) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <string>
 
@@ -123,6 +124,51 @@ TEST(BroadPhase, AMovingSceneKeepsItsPairsRight) {
         }
         ASSERT_EQ(broadPhase.findPairs(bodies, 0.1), bruteForcePairs(bodies, 0.1)) << "call " << call;
     }
+}
+
+TEST(BroadPhase, KeptPairsAnswerAsASearchAnewWould) {
+    // Small moves answered from the kept pairs, large ones searched anew, and every change that
+    // the kept pairs cannot answer for (a body made static or movable, a plane moved or turned, a
+    // body more, another margin): the pairs of testing every pair each time.
+    std::vector<Body> bodies = randomScene(11, 700, 2, 9.0);  // the grid
+    for (Body& b : bodies) b.velocity = Vec3(0.3, -0.2, 0.1);  // m/s, the way the small moves go
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> step(-1.0, 1.0);
+    BroadPhase broadPhase;
+    const double ahead = 0.05;  // s: the grown boxes reach 3 cm along the velocity
+    int calls = 0;
+    const auto check = [&](const std::string& what) {
+        ++calls;
+        ASSERT_EQ(broadPhase.findPairs(bodies, 0.1, nullptr, ahead), bruteForcePairs(bodies, 0.1)) << what;
+    };
+    for (int call = 0; call < 30; ++call) {
+        const double reach = call % 10 == 9 ? 0.5 : 0.004;  // m per axis: mostly small moves
+        for (Body& b : bodies) {
+            if (b.shape != Shape::Plane && !b.isStatic()) b.position += reach * Vec3(step(random), step(random), step(random));
+        }
+        check("call " + std::to_string(call));
+    }
+    EXPECT_LT(broadPhase.searches(), 10u) << "small moves are answered from the kept pairs";
+    EXPECT_GE(broadPhase.searches(), 4u) << "the large moves search anew";
+    const auto firstOf = [&](auto pick) { return std::find_if(bodies.begin(), bodies.end(), pick); };
+    const auto movable = firstOf([](const Body& b) { return b.shape != Shape::Plane && !b.isStatic(); });
+    const auto fixed = firstOf([](const Body& b) { return b.shape != Shape::Plane && b.isStatic(); });
+    const auto plane = firstOf([](const Body& b) { return b.shape == Shape::Plane; });
+    ASSERT_TRUE(movable != bodies.end() && fixed != bodies.end() && plane != bodies.end());
+    const std::size_t before = broadPhase.searches();
+    movable->makeStatic();
+    check("a body made static");
+    fixed->invMass = 1.0;
+    check("a static body made movable");
+    plane->position += Vec3(0.0, 0.5, 0.0);
+    check("a plane moved");
+    plane->orientation = Quat(Eigen::AngleAxisd(0.3, Vec3::UnitX())) * plane->orientation;
+    check("a plane turned");
+    bodies.push_back(sphere("newcomer", 0.5, 1.0).at(bodies.front().position));
+    check("a body more");
+    ++calls;
+    ASSERT_EQ(broadPhase.findPairs(bodies, 0.2, nullptr, ahead), bruteForcePairs(bodies, 0.2)) << "another margin";
+    EXPECT_EQ(broadPhase.searches(), before + 6) << "each change searched anew";
 }
 
 TEST(BroadPhase, StaticBodiesNeverPairWithEachOther) {

@@ -16,6 +16,13 @@
 // extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
 // new overlaps among them while they move bodies apart.
 //
+// Pairs are kept from one call to the next. Each call finds them for boxes grown by a skin as
+// well (kSkin times the body's size on every side, and as far as the body's velocity carries it in
+// `ahead` seconds), keeps those and the grown boxes, and answers the next calls from them for as
+// long as every body's box stays inside its grown one, the bodies and the margin are the same, and
+// no static body has changed: a pair that overlaps then overlaps with the grown boxes too, so
+// testing the kept pairs again gives exactly the pairs of searching anew, in the same order.
+//
 // With two threads (setThreads(), the default where the machine has two cores) and a SecondThread
 // handed to findPairs() (the engine's), the grid tests its boxes in two halves at once; the pairs
 // are sorted after, so the result is the same.
@@ -53,8 +60,11 @@ public:
     /// once the scene has settled.
     /// `second`: the thread that tests half the boxes with two threads (see setThreads()); without
     /// one, this one tests them all.
+    /// `ahead` (s): how far along its velocity the grown box reaches (the engine: a few time steps).
     const std::vector<BodyPair>& findPairs(const std::vector<Body>& bodies, double margin = 0.0,
-                                           SecondThread* second = nullptr);
+                                           SecondThread* second = nullptr, double ahead = 0.0);
+    /// Calls so far that searched anew (the others answered from the kept pairs).
+    std::size_t searches() const { return searches_; }
     /// Threads the grid's tests may use (1 or 2; more count as 2).
     void setThreads(int threads) { threads_ = threads < 2 ? 1 : 2; }
     int threads() const { return threads_; }
@@ -63,6 +73,8 @@ public:
     static constexpr std::size_t kGridFrom = 512;
     /// In the grid, a body larger than this many times the median body is tested against every other.
     static constexpr double kLargeSizes = 4.0;
+    /// The skin of the kept pairs' boxes, in times each body's size (as the margin).
+    static constexpr double kSkin = 0.2;
 
 private:
     /// A body's box.
@@ -97,8 +109,20 @@ private:
     std::vector<std::size_t> firsts_;     ///< sortPairs()'s range per first body
     std::vector<std::size_t> cursor_;     ///< sortPairs()'s place per first body
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
+    // What the kept pairs were found for: per body its grown box (planes: their position and normal
+    // as min and max) and whether it was static, the margin, and the pairs of the grown boxes.
+    std::vector<Aabb> grown_;
+    std::vector<char> wasStatic_;
+    std::vector<Aabb> now_;  ///< this call's boxes with the margin alone, per body
+    double grownMargin_ = -1.0;
+    std::vector<BodyPair> kept_;
+    std::size_t searches_ = 0;
     int threads_ = defaultThreads();
 
+    /// True when the kept pairs still hold every overlap (see the head of this file); fills now_.
+    bool keptPairsHold(const std::vector<Body>& bodies, double margin);
+    /// pairs_: the kept pairs whose boxes in now_ overlap (or reach their plane).
+    void filterKept(const std::vector<Body>& bodies);
     /// The pairs of entries_ by sort and sweep, into pairs_.
     void sweep();
     /// The sweep's tests of the boxes swept_[first, last) against those after them, into pairs.

@@ -42,6 +42,9 @@ constexpr double kDefaultTimeStep = 0.01;
 /// Margin of the contact stages' broad phase, as a fraction of each body's size: pairs this near
 /// are watched for overlaps while interpenetration moves bodies apart.
 constexpr double kContactMargin = 0.1;
+/// Time steps ahead along its velocity that a body's box reaches when the broad phase keeps its
+/// pairs for the next steps (BroadPhase::findPairs()): a body that moves steadily stays inside.
+constexpr double kPairsAhead = 3.0;
 /// Standard gravity (m/s^2), pointing down the y axis.
 inline Vec3 standardGravity() { return Vec3(0.0, -9.81, 0.0); }
 
