@@ -26,6 +26,13 @@ void PhysicsEngine::resolveInterpenetrations() {
     std::size_t moves = 0;
     movedAt_.assign(bodies_.size(), 0);
     apartAt_.assign(nearPairs_.size(), kOverlapped);
+    // Detection has just tested every near pair and nothing has moved since: the pairs it found
+    // apart stay apart until one of their bodies moves.
+    if (stageActive(Stage::CollisionDetection)) {
+        for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
+            if (!pairInContacts_[k]) apartAt_[k] = 0;
+        }
+    }
     // Moves the bodies of an overlap apart; a contact not among contacts() yet joins them.
     const auto separate = [this, &moves](const Contact& c, char& inContacts) {
         Body& a = bodies_[c.a];
