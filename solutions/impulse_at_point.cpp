@@ -19,13 +19,17 @@ void applyImpulseAtPoint([[maybe_unused]] Body& a, [[maybe_unused]] Body& b, [[m
                          [[maybe_unused]] const Vec3& impulse) {
     // BEGIN SOLUTION
     // A static body never moves (its inverse mass and inertia are zero): nothing to add to it.
+    // Both inverse inertias first: the matrix worldInverseInertia() returns is read back soon after
+    // it was written only once, not twice (such a read waits for the writes to reach the cache).
+    const Mat3 invIa = a.isStatic() ? Mat3::Zero() : worldInverseInertia(a);
+    const Mat3 invIb = b.isStatic() ? Mat3::Zero() : worldInverseInertia(b);
     if (!a.isStatic()) {
         a.velocity -= a.invMass * impulse;
-        a.angularVelocity -= worldInverseInertia(a) * (point - a.position).cross(impulse);
+        a.angularVelocity -= invIa * (point - a.position).cross(impulse);
     }
     if (!b.isStatic()) {
         b.velocity += b.invMass * impulse;
-        b.angularVelocity += worldInverseInertia(b) * (point - b.position).cross(impulse);
+        b.angularVelocity += invIb * (point - b.position).cross(impulse);
     }
     // ELSE STUB
     // kernelNotImplemented("applyImpulseAtPoint()");
