@@ -58,31 +58,39 @@ constexpr std::uint64_t rowOffset(long dx, long dy) {
 
 }  // namespace
 
+namespace {
+
+// What the kept pairs depend on besides the boxes: a plane (static by construction), a static
+// finite body or a movable one.
+constexpr char kMovable = 0, kStatic = 1, kPlane = 2;
+char kindOf(const Body& b) { return b.shape == Shape::Plane ? kPlane : b.isStatic() ? kStatic : kMovable; }
+
+}  // namespace
+
 bool BroadPhase::keptPairsHold(const std::vector<Body>& bodies, double margin) {
     now_.resize(bodies.size());
     bool hold = margin == grownMargin_ && bodies.size() == grown_.size();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const Body& b = bodies[i];
-        if (b.shape == Shape::Plane) {
-            hold = hold && b.position == grown_[i].min && planeNormal(b) == grown_[i].max && b.isStatic() == wasStatic_[i];
+        const char kind = kindOf(b);
+        if (kind == kPlane) {
+            hold = hold && kind_[i] == kPlane && b.position == grown_[i].min && planeNormal(b) == grown_[i].max;
             continue;
         }
         now_[i] = boundingBox(b, margin);
-        hold = hold && b.isStatic() == static_cast<bool>(wasStatic_[i]) &&
-               (grown_[i].min.array() <= now_[i].min.array()).all() && (now_[i].max.array() <= grown_[i].max.array()).all();
+        hold = hold && kind == kind_[i] && (grown_[i].min.array() <= now_[i].min.array()).all() &&
+               (now_[i].max.array() <= grown_[i].max.array()).all();
     }
     return hold;
 }
 
-void BroadPhase::filterKept(const std::vector<Body>& bodies) {
+void BroadPhase::filterKept() {
     pairs_.clear();
     for (const BodyPair& p : kept_) {
-        const Body& a = bodies[p.a];
-        const Body& b = bodies[p.b];
         bool touch = false;
-        if (a.shape == Shape::Plane) {
+        if (kind_[p.a] == kPlane) {
             touch = reachesPlane(now_[p.b], grown_[p.a].min, grown_[p.a].max);
-        } else if (b.shape == Shape::Plane) {
+        } else if (kind_[p.b] == kPlane) {
             touch = reachesPlane(now_[p.a], grown_[p.b].min, grown_[p.b].max);
         } else {
             touch = overlap(now_[p.a], now_[p.b]);
@@ -94,7 +102,7 @@ void BroadPhase::filterKept(const std::vector<Body>& bodies) {
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
                                                    SecondThread* second, double ahead) {
     if (keptPairsHold(bodies, margin)) {
-        filterKept(bodies);
+        filterKept();
         return pairs_;
     }
     ++searches_;
@@ -136,13 +144,13 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
 
     // Kept, with the grown boxes, for the next calls; this call's answer from them.
     grown_.resize(bodies.size());
-    wasStatic_.resize(bodies.size());
+    kind_.resize(bodies.size());
     for (const Entry& e : entries_) grown_[e.index] = e.box;
     for (const std::size_t plane : planes_) grown_[plane] = {bodies[plane].position, planeNormal(bodies[plane])};
-    for (std::size_t i = 0; i < bodies.size(); ++i) wasStatic_[i] = bodies[i].isStatic();
+    for (std::size_t i = 0; i < bodies.size(); ++i) kind_[i] = kindOf(bodies[i]);
     grownMargin_ = margin;
     kept_.swap(pairs_);
-    filterKept(bodies);
+    filterKept();
     return pairs_;
 }
 

@@ -110,9 +110,9 @@ private:
     std::vector<std::size_t> cursor_;     ///< sortPairs()'s place per first body
     std::vector<BodyPair> secondHalf_;  ///< the second thread's pairs
     // What the kept pairs were found for: per body its grown box (planes: their position and normal
-    // as min and max) and whether it was static, the margin, and the pairs of the grown boxes.
+    // as min and max) and its kind (kindOf()), the margin, and the pairs of the grown boxes.
     std::vector<Aabb> grown_;
-    std::vector<char> wasStatic_;
+    std::vector<char> kind_;
     std::vector<Aabb> now_;  ///< this call's boxes with the margin alone, per body
     double grownMargin_ = -1.0;
     std::vector<BodyPair> kept_;
@@ -122,7 +122,7 @@ private:
     /// True when the kept pairs still hold every overlap (see the head of this file); fills now_.
     bool keptPairsHold(const std::vector<Body>& bodies, double margin);
     /// pairs_: the kept pairs whose boxes in now_ overlap (or reach their plane).
-    void filterKept(const std::vector<Body>& bodies);
+    void filterKept();
     /// The pairs of entries_ by sort and sweep, into pairs_.
     void sweep();
     /// The sweep's tests of the boxes swept_[first, last) against those after them, into pairs.
