@@ -48,7 +48,9 @@ std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
     const auto steps = static_cast<std::size_t>(std::ceil(seconds / kTimeStep));
     std::vector<std::vector<double>> stepMs(engines.size());
     std::vector<double> points(engines.size(), 0.0);
-    std::vector<double> deepest(engines.size(), 0.0);
+    // The states of the last second, measured after the run: measuring between the timed steps
+    // made this engine's next step slower (its second thread had gone to sleep meanwhile).
+    std::vector<std::vector<std::vector<HeapBody>>> lastSecond(engines.size());
     for (std::size_t done = 0; done < steps; done += kTurn) {
         for (std::size_t e = 0; e < engines.size(); ++e) {
             for (std::size_t s = done; s < std::min(steps, done + kTurn); ++s) {
@@ -56,12 +58,7 @@ std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
                 engines[e].second->step();
                 stepMs[e].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
                 points[e] += engines[e].second->contactPoints();
-                if (s + kQualitySteps >= steps) {  // the last second: its deepest overlap, not timed
-                    HeapRun now;
-                    now.shape = shape;
-                    measureQuality(engines[e].second->state(), now);
-                    deepest[e] = std::max(deepest[e], now.deepest);
-                }
+                if (s + kQualitySteps >= steps) lastSecond[e].push_back(engines[e].second->state());
             }
         }
     }
@@ -79,8 +76,13 @@ std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
             run.medianMs = ms[ms.size() / 2];
             run.p90Ms = ms[std::min(ms.size() - 1, ms.size() * 9 / 10)];
         }
+        double deepest = 0.0;
+        for (const std::vector<HeapBody>& state : lastSecond[e]) {
+            measureQuality(state, run);
+            deepest = std::max(deepest, run.deepest);
+        }
         measureQuality(engines[e].second->state(), run);
-        run.deepest = std::max(run.deepest, deepest[e]);
+        run.deepest = std::max(run.deepest, deepest);
     }
     return runs;
 }

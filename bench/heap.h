@@ -89,8 +89,8 @@ constexpr std::size_t kQualitySteps = 60;
 /// then slows both engines' steps of the same stretch of the fall, not one engine's whole run, so
 /// their ratio holds from run to run. Per engine, in the order given: the step times (median, 90th
 /// percentile), contact points per step (mean) and the quality of the heap: its height and kinetic
-/// energy at the end, its deepest overlap over the last kQualitySteps steps (measured between the
-/// timed steps), so that one lucky or unlucky last step does not decide it.
+/// energy at the end, its deepest overlap over the last kQualitySteps steps (their states kept, and
+/// measured after the run), so that one lucky or unlucky last step does not decide it.
 std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
                                 const std::vector<std::pair<std::string, HeapSim*>>& engines);
 
