@@ -35,13 +35,14 @@
 namespace gpl {
 namespace {
 
-// Last step's entry of the pair (a, b), or nullptr.
+// Last step's entry of the pair (a, b), or nullptr: the first of a's entries with this b (they are
+// sorted by b, and a plane has one per body on it: a search, not a walk through them all).
 const ContactMemory::Entry* remembered(const ContactMemory& memory, std::size_t a, std::size_t b) {
     if (a + 1 >= memory.firstOf.size()) return nullptr;
-    for (std::size_t m = memory.firstOf[a]; m < memory.firstOf[a + 1]; ++m) {
-        if (memory.entries[m].b == b) return &memory.entries[m];
-    }
-    return nullptr;
+    const auto begin = memory.entries.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[a]);
+    const auto end = memory.entries.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[a + 1]);
+    const auto found = std::lower_bound(begin, end, b, [](const ContactMemory::Entry& e, std::size_t i) { return e.b < i; });
+    return found != end && found->b == b ? &*found : nullptr;
 }
 
 // Last step's sums of the point nearest to p (within kWarmStartDistance), with the friction sum
