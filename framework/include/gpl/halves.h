@@ -13,7 +13,7 @@
 // its own, so that the two threads write memory far apart. Solved where they are, among the other
 // half's bodies in the engine's array, the two threads slowed each other: with the copies the whole
 // run takes 0.93 of the time on the 8000-sphere heap, 0.97 on the 1000-sphere and the 1000-cube
-// heaps (farm-bench, in pairs). The bodies of pairs across the cut are copied to the engine's array
+// heaps (whole runs timed in pairs). The bodies of pairs across the cut are copied to the engine's array
 // before the middle is solved, and back after it. Without a second thread there is no other thread
 // to keep apart from, and the halves solve the bodies where they are (the copies cost 2 % there):
 // the same state to the bit, which the tests of one thread against two check.
