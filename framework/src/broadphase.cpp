@@ -56,10 +56,6 @@ constexpr std::uint64_t rowOffset(long dx, long dy) {
     return static_cast<std::uint64_t>(dx * (1L << (2 * kCellBits)) + dy * (1L << kCellBits));
 }
 
-}  // namespace
-
-namespace {
-
 // What the kept pairs depend on besides the boxes: a plane (static by construction), a static
 // finite body or a movable one.
 constexpr char kMovable = 0, kStatic = 1, kPlane = 2;
