@@ -76,13 +76,14 @@ std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
             run.medianMs = ms[ms.size() / 2];
             run.p90Ms = ms[std::min(ms.size() - 1, ms.size() * 9 / 10)];
         }
+        // The last state kept is the one at the end: its height and kinetic energy stay in run.
+        if (lastSecond[e].empty()) lastSecond[e].push_back(engines[e].second->state());
         double deepest = 0.0;
         for (const std::vector<HeapBody>& state : lastSecond[e]) {
             measureQuality(state, run);
             deepest = std::max(deepest, run.deepest);
         }
-        measureQuality(engines[e].second->state(), run);
-        run.deepest = std::max(run.deepest, deepest);
+        run.deepest = deepest;
     }
     return runs;
 }

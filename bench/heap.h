@@ -94,7 +94,8 @@ constexpr std::size_t kQualitySteps = 60;
 std::vector<HeapRun> runInTurns(HeapShape shape, std::size_t n, double seconds,
                                 const std::vector<std::pair<std::string, HeapSim*>>& engines);
 
-/// The quality figures of a state of the heap, into run (run.shape says what the bodies are). Both engines' states are measured alike: the overlaps of cubes by this engine's reference
+/// The quality figures of a state of the heap, into run (run.shape says what the bodies are). Both
+/// engines' states are measured alike: the overlaps of cubes by this engine's reference
 /// kernels boxBox() and boxPlane() (worksheet 5), of spheres by their distances.
 void measureQuality(const std::vector<HeapBody>& bodies, HeapRun& run);
 
