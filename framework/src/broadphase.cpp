@@ -22,10 +22,28 @@ bool reachesPlane(const Aabb& box, const Vec3& origin, const Vec3& n) {
 
 Vec3 planeNormal(const Body& plane) { return plane.orientation * plane.normal; }
 
-// The brute force's pair test (the sweep makes the same two checks on its packed entries).
-bool mayTouch(const Body& p, const Body& q, const Aabb& boxP, const Aabb& boxQ) {
-    if (p.isStatic() && q.isStatic()) return false;
+// A sphere's ball grown by `margin` times its radius; a radius below zero for the other shapes.
+Ball ballOf(const Body& b, double margin) {
+    return b.shape == Shape::Sphere ? Ball{b.position, (1.0 + margin) * b.radius} : Ball{b.position, -1.0};
+}
+
+// Two balls meet (touching counts).
+bool meet(const Ball& p, const Ball& q) {
+    const double reach = p.radius + q.radius;
+    return (p.centre - q.centre).squaredNorm() <= reach * reach;
+}
+
+// Two bounding volumes overlap: the balls of two spheres (their boxes then overlap too), the boxes
+// of any other two bodies.
+bool overlap(const Aabb& boxP, const Aabb& boxQ, const Ball& ballP, const Ball& ballQ) {
+    if (ballP.radius >= 0.0 && ballQ.radius >= 0.0) return meet(ballP, ballQ);
     return overlap(boxP, boxQ);
+}
+
+// The brute force's pair test (filterKept() makes the same on its kept pairs).
+bool mayTouch(const Body& p, const Body& q, double margin) {
+    if (p.isStatic() && q.isStatic()) return false;
+    return overlap(boundingBox(p, margin), boundingBox(q, margin), ballOf(p, margin), ballOf(q, margin));
 }
 
 }  // namespace
@@ -65,6 +83,7 @@ char kindOf(const Body& b) { return b.shape == Shape::Plane ? kPlane : b.isStati
 
 bool BroadPhase::keptPairsHold(const std::vector<Body>& bodies, double margin) {
     now_.resize(bodies.size());
+    balls_.resize(bodies.size());
     bool hold = margin == grownMargin_ && bodies.size() == grown_.size();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const Body& b = bodies[i];
@@ -74,6 +93,7 @@ bool BroadPhase::keptPairsHold(const std::vector<Body>& bodies, double margin) {
             continue;
         }
         now_[i] = boundingBox(b, margin);
+        balls_[i] = ballOf(b, margin);
         hold = hold && kind == kind_[i] && (grown_[i].min.array() <= now_[i].min.array()).all() &&
                (now_[i].max.array() <= grown_[i].max.array()).all();
     }
@@ -89,7 +109,7 @@ void BroadPhase::filterKept() {
         } else if (kind_[p.b] == kPlane) {
             touch = reachesPlane(now_[p.a], grown_[p.b].min, grown_[p.b].max);
         } else {
-            touch = overlap(now_[p.a], now_[p.b]);
+            touch = overlap(now_[p.a], now_[p.b], balls_[p.a], balls_[p.b]);
         }
         if (touch) pairs_.push_back(p);
     }
@@ -331,7 +351,7 @@ std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies, double ma
                     pairs.push_back({i, j});
                 continue;
             }
-            if (mayTouch(p, q, boundingBox(p, margin), boundingBox(q, margin))) pairs.push_back({i, j});
+            if (mayTouch(p, q, margin)) pairs.push_back({i, j});
         }
     }
     return pairs;

@@ -72,33 +72,35 @@ TEST(BroadPhase, OneThreadAndTwoFindTheSamePairs) {
 }
 
 TEST(BroadPhase, TheGridFindsNeighboursInEveryDirection) {
-    // A lattice of equal spheres around the origin (negative cells too), spaced so that each box
+    // A lattice of equal cubes around the origin (negative cells too), spaced so that each box
     // overlaps its 26 neighbours' (by 1 % of the spacing on the diagonals' axes) and no other's,
     // shifted to every offset within a cell (which row and column a neighbour lands in changes);
-    // then the same lattice holding spheres of up to kLargeSizes median ones (filed in cells as wide
-    // as the largest) and one just larger (tested against every other body instead).
-    const double radius = 0.5, spacing = 0.99 * 2.0 * radius;  // m
+    // then the same lattice holding cubes of up to kLargeSizes median ones (filed in cells as wide
+    // as the largest) and one just larger (tested against every other body instead). Cubes, not
+    // spheres: two spheres on a diagonal pair only where their balls meet.
+    const double half = 0.5, spacing = 0.99 * 2.0 * half;  // m
     for (int shift = 0; shift < 4; ++shift) {
         for (const bool mixed : {false, true}) {
             std::vector<Body> bodies;
             for (int x = -5; x < 5; ++x) {
                 for (int y = -5; y < 5; ++y) {
                     for (int z = -5; z < 5; ++z) {
-                        const Vec3 at = spacing * Vec3(x, y, z) + Vec3::Constant(0.3 * shift * radius);
-                        bodies.push_back(sphere("s" + std::to_string(bodies.size()), radius, 1.0).at(at));
+                        const Vec3 at = spacing * Vec3(x, y, z) + Vec3::Constant(0.3 * shift * half);
+                        bodies.push_back(box("c" + std::to_string(bodies.size()), Vec3::Constant(half), 1.0).at(at));
                     }
                 }
             }
             if (mixed) {
-                bodies.push_back(sphere("big", 0.99 * BroadPhase::kLargeSizes * radius, 1.0).at(Vec3(1.3, -2.1, 0.4)));
-                bodies.push_back(sphere("larger", 1.01 * BroadPhase::kLargeSizes * radius, 1.0).at(Vec3(-3.2, 2.5, -1.9)));
+                const Vec3 big = Vec3::Constant(0.99 * BroadPhase::kLargeSizes * half);
+                bodies.push_back(box("big", big, 1.0).at(Vec3(1.3, -2.1, 0.4)));
+                bodies.push_back(box("larger", big * (1.01 / 0.99), 1.0).at(Vec3(-3.2, 2.5, -1.9)));
             }
             ASSERT_GE(bodies.size(), BroadPhase::kGridFrom);
             const std::vector<BodyPair> expected = bruteForcePairs(bodies);
             BroadPhase broadPhase;
             broadPhase.setThreads(1);
             EXPECT_EQ(broadPhase.findPairs(bodies), expected) << "shift " << shift << (mixed ? ", mixed sizes" : "");
-            // Each inner sphere of the plain lattice pairs with its 26 neighbours, 13 of them after it.
+            // Each inner cube of the plain lattice pairs with its 26 neighbours, 13 of them after it.
             if (!mixed) {
                 EXPECT_GT(expected.size(), 13u * 8u * 8u * 8u);
             }
@@ -192,6 +194,33 @@ TEST(BroadPhase, TouchingBoxesPairAndSeparatedOnesDoNot) {
     BroadPhase broadPhase;
     const std::vector<BodyPair> expected = {{0, 1}};
     EXPECT_EQ(broadPhase.findPairs(bodies), expected);
+}
+
+TEST(BroadPhase, SpheresPairOnlyWhereTheirBallsMeet) {
+    // Spheres of radius 0.5 m side by side at a slant, 0.8 m apart on two axes: their boxes overlap
+    // in the corners, but the balls are 1.13 m apart, 0.13 m more than they reach. A margin of 0.15
+    // grows each radius by 7.5 cm, enough; 0.12 (6 cm each) is not. A box in the sphere's place has
+    // no ball: its box decides.
+    const Vec3 slant(0.8, 0.8, 0.0);  // m
+    std::vector<Body> spheres = {sphere("a", 0.5, 1.0), sphere("b", 0.5, 1.0).at(slant)};
+    std::vector<Body> sphereAndBox = {sphere("a", 0.5, 1.0), box("b", Vec3::Constant(0.5), 1.0).at(slant)};
+    BroadPhase broadPhase;
+    const std::vector<BodyPair> pair = {{0, 1}};
+    EXPECT_TRUE(broadPhase.findPairs(spheres).empty());
+    EXPECT_TRUE(broadPhase.findPairs(spheres, 0.12).empty());
+    EXPECT_EQ(broadPhase.findPairs(spheres, 0.15), pair);
+    EXPECT_EQ(broadPhase.findPairs(sphereAndBox), pair);
+    EXPECT_TRUE(bruteForcePairs(spheres).empty());
+    EXPECT_EQ(bruteForcePairs(spheres, 0.15), pair);
+    EXPECT_EQ(bruteForcePairs(sphereAndBox), pair);
+    // The kept pairs answer the same: b moved towards a, inside the boxes the pairs were kept for.
+    EXPECT_TRUE(broadPhase.findPairs(spheres).empty());
+    const std::size_t searches = broadPhase.searches();
+    spheres[1].position = Vec3(0.75, 0.75, 0.0);  // 1.06 m apart: still not touching
+    EXPECT_TRUE(broadPhase.findPairs(spheres).empty());
+    spheres[1].position = Vec3(0.705, 0.705, 0.0);  // 0.997 m apart: touching
+    EXPECT_EQ(broadPhase.findPairs(spheres), pair);
+    EXPECT_EQ(broadPhase.searches(), searches);
 }
 
 TEST(BroadPhase, MarginFindsBodiesAboutToTouch) {

@@ -7,14 +7,17 @@
 // grid of cells as wide as the largest box: each box is filed under the cell of its centre, and
 // tested only against the boxes of its own and the neighbouring cells, each pair once. A body
 // larger than kLargeSizes median boxes (or far outside the grid's range) is tested against every
-// other body instead, so that one large body does not make every cell large. Static planes are infinite: each pairs with every movable body whose box reaches the
-// plane. Two static bodies never pair. The result is exactly the pairs whose bounding volumes
-// overlap (bruteForcePairs() tests every pair the same way), sorted. The work grows with the number
-// of bodies, not with the size of the scene.
+// other body instead, so that one large body does not make every cell large. Static planes are
+// infinite: each pairs with every movable body whose box reaches the plane. Two static bodies never
+// pair. Two spheres pair only when their balls meet as well as their boxes: the boxes of two spheres
+// side by side at a slant overlap in their corners (in a settled heap of spheres, a third of the
+// pairs of boxes), and every pair found costs the contact stages a kernel call or more. The result
+// is exactly the pairs whose bounding volumes overlap (bruteForcePairs() tests every pair the same
+// way), sorted. The work grows with the number of bodies, not with the size of the scene.
 //
-// A margin grows every box by a fraction of its body's size (the radius, or a box's smallest half
-// extent), so that the pairs also hold bodies that are about to touch: the contact stages look for
-// new overlaps among them while they move bodies apart.
+// A margin grows every box and ball by a fraction of its body's size (the radius, or a box's
+// smallest half extent), so that the pairs also hold bodies that are about to touch: the contact
+// stages look for new overlaps among them while they move bodies apart.
 //
 // Pairs are kept from one call to the next. Each call finds them for boxes grown by a skin as
 // well (kSkin times the body's size on every side, and as far as the body's velocity carries it in
@@ -52,6 +55,12 @@ struct Aabb {
 };
 /// The box grown on every side by `margin` times the body's size (radius or smallest half extent).
 Aabb boundingBox(const Body& body, double margin = 0.0);
+
+/// A sphere's bounding ball (itself, grown by the margin); other shapes have none (radius < 0).
+struct Ball {
+    Vec3 centre = Vec3::Zero();  ///< m
+    double radius = -1.0;        ///< m
+};
 
 class BroadPhase {
 public:
@@ -114,6 +123,7 @@ private:
     std::vector<Aabb> grown_;
     std::vector<char> kind_;
     std::vector<Aabb> now_;  ///< this call's boxes with the margin alone, per body
+    std::vector<Ball> balls_;  ///< and the spheres' balls, likewise
     double grownMargin_ = -1.0;
     std::vector<BodyPair> kept_;
     std::size_t searches_ = 0;
