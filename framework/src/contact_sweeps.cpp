@@ -145,10 +145,11 @@ void Halves::mergeStatics(std::vector<Body>& bodies) {
 
 void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                         const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
-                        int sweeps, bool skipIdle, SecondThread* second) {
+                        int sweeps, bool skipIdle, SecondThread* second, const Start* start) {
     split(contacts, first, invI, bodies, sums, second != nullptr);
     const bool cut = halves_.cutInTwo();
     halves_.pack(bodies);  // this and the other copies: only when the halves are packed
+    if (start != nullptr) warmStart(contacts, *start, bodies, second);
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
     const std::function<void()> right = [this, skipIdle] { solve(parts_[Halves::kRight], skipIdle); };
     for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -169,6 +170,42 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
     for (const Part& part : parts_) {
         for (const Job& job : part.jobs) {
             for (int k = 0; k < job.contact->pointCount; ++k) sums[job.global + k] = part.sums[job.point + k];
+        }
+    }
+}
+
+void ContactSweeps::warmStart(const std::vector<Contact>& contacts, const Start& start, std::vector<Body>& bodies,
+                              SecondThread* second) {
+    measure(parts_[Halves::kMiddle], contacts, start);  // its bodies are the halves': before their warm starts
+    if (halves_.cutInTwo()) {
+        Part& left = parts_[Halves::kLeft];
+        Part& right = parts_[Halves::kRight];
+        const std::function<void()> mine = [&] { measure(left, contacts, start), applyWarmStarts(left); };
+        const std::function<void()> theirs = [&] { measure(right, contacts, start), applyWarmStarts(right); };
+        if (second != nullptr) {
+            second->run(true, mine, theirs);
+        } else {
+            mine();
+            theirs();
+        }
+        halves_.mergeStatics(bodies);
+        halves_.acrossToBodies(bodies);
+    }
+    applyWarmStarts(parts_[Halves::kMiddle]);
+    halves_.acrossToHalves(bodies);
+}
+
+void ContactSweeps::measure(Part& part, const std::vector<Contact>& contacts, const Start& start) {
+    for (const Job& job : part.jobs) {
+        start(static_cast<std::size_t>(job.contact - contacts.data()), *job.a, *job.b, &part.sums[job.point]);
+    }
+}
+
+void ContactSweeps::applyWarmStarts(Part& part) {
+    for (const Job& job : part.jobs) {
+        for (int k = 0; k < job.contact->pointCount; ++k) {
+            const PointImpulse& s = part.sums[job.point + k];
+            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(*job.contact, k, *job.a, *job.b, s);
         }
     }
 }

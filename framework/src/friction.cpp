@@ -7,7 +7,8 @@
 //   2. measures each point's approach speed (what restitution answers) before anything changes it,
 //   3. warm starts: a point of the same pair of bodies as one of last step's, within
 //      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
-//      tangent plane), applied once with applyWarmStart(),
+//      tangent plane), applied once with applyWarmStart(); 2 and 3 are the sweeps' first pass (a
+//      large stage's halves measure and warm start their own points at once),
 //   4. sweeps contactIterations() times over every point (ContactSweeps, contact_sweeps.cpp):
 //      applyNormalImpulse(), then applyFrictionImpulse() against the normal sum just updated; a
 //      point whose last solve changed nothing, and whose bodies nothing has changed since, is
@@ -126,29 +127,17 @@ void PhysicsEngine::solveContacts() {
     for (std::size_t c = 0; c < contacts_.size(); ++c) first[c + 1] = first[c] + contacts_[c].pointCount;
     sums_.assign(first.back(), PointImpulse{});
 
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+    // Each point's approach and last step's sums, measured and warm started by the sweeps' first pass.
+    const ContactSweeps::Start start = [this](std::size_t c, const Body& a, const Body& b, PointImpulse* sums) {
         const Contact& con = contacts_[c];
-        Body& a = bodies_[con.a];
-        Body& b = bodies_[con.b];
         const ContactMemory::Entry* old = remembered(contactMemory_, con.a, con.b);
         for (int k = 0; k < con.pointCount; ++k) {
-            PointImpulse& s = sums_[first[c] + k];
-            const double approach = normalVelocityAt(con, a, b, con.points[k]);
-            s = warmSums(contactMemory_, old, con.points[k], con.normal);
-            s.approach = approach;
+            sums[k] = warmSums(contactMemory_, old, con.points[k], con.normal);
+            sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
         }
-    }
-    // Warm start after every approach is measured: an impulse at one point changes the others'.
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        const Contact& con = contacts_[c];
-        for (int k = 0; k < con.pointCount; ++k) {
-            const PointImpulse& s = sums_[first[c] + k];
-            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(con, k, bodies_[con.a], bodies_[con.b], s);
-        }
-    }
-
+    };
     sweeps_.run(contacts_, first, worldInvInertia_, bodies_, sums_, contactIterations_, true,
-                threads() > 1 ? &second_ : nullptr);
+                threads() > 1 ? &second_ : nullptr, &start);
 
     // The step's positions and orientations with the velocities after the impulses; along the
     // contact normals interpenetration has moved the bodies already.

@@ -314,27 +314,61 @@ TEST(Contacts, FrictionSweepsSkipOnlyPointsThatWouldNotChange) {
 }
 
 TEST(Contacts, FrictionSweepsInHalvesOnTwoThreadsGiveTheSameStateAsOnOne) {
-    // The heap cut in halves: solved at once on two threads, and one half after the other on one.
+    // The heap cut in halves: solved at once on two threads, and one half after the other on one;
+    // the second time with a first pass that starts every point (its approach measured, a normal
+    // sum of a tenth of m g h to warm start from).
     const LandedHeap heap = landedHeap(1000, 14);
     ASSERT_GE(heap.first.back(), ContactSweeps::kSplitFrom);
-    std::vector<Body> one = heap.bodies, two = heap.bodies;
-    std::vector<PointImpulse> oneSums(heap.first.back()), twoSums(heap.first.back());
-    ContactSweeps().run(heap.contacts, heap.first, heap.invI, one, oneSums, 10);
-    SecondThread second;
-    ContactSweeps sweeps;
-    for (int step = 0; step < 2; ++step) {  // the second time, the thread is there already
-        two = heap.bodies;
-        twoSums.assign(heap.first.back(), PointImpulse{});
-        sweeps.run(heap.contacts, heap.first, heap.invI, two, twoSums, 10, true, &second);
-        for (std::size_t k = 0; k < oneSums.size(); ++k) {
-            ASSERT_EQ(oneSums[k].normal, twoSums[k].normal) << "point " << k;
-            ASSERT_EQ(oneSums[k].tangent, twoSums[k].tangent) << "point " << k;
+    const ContactSweeps::Start start = [&heap](std::size_t c, const Body& a, const Body& b, PointImpulse* sums) {
+        const Contact& con = heap.contacts[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            sums[k].normal = 0.1 * 9.81 / 60.0;  // N s
+            sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
         }
-        for (std::size_t i = 0; i < heap.bodies.size(); ++i) {
-            ASSERT_EQ(one[i].velocity, two[i].velocity) << "body " << i;
-            ASSERT_EQ(one[i].angularVelocity, two[i].angularVelocity) << "body " << i;
+    };
+    std::vector<Body> one, two;
+    std::vector<PointImpulse> oneSums, twoSums;
+    for (const ContactSweeps::Start* first : {static_cast<const ContactSweeps::Start*>(nullptr), &start}) {
+        one = heap.bodies;
+        oneSums.assign(heap.first.back(), PointImpulse{});
+        ContactSweeps().run(heap.contacts, heap.first, heap.invI, one, oneSums, 10, true, nullptr, first);
+        SecondThread second;
+        ContactSweeps sweeps;
+        for (int step = 0; step < 2; ++step) {  // the second time, the thread is there already
+            two = heap.bodies;
+            twoSums.assign(heap.first.back(), PointImpulse{});
+            sweeps.run(heap.contacts, heap.first, heap.invI, two, twoSums, 10, true, &second, first);
+            for (std::size_t k = 0; k < oneSums.size(); ++k) {
+                ASSERT_EQ(oneSums[k].normal, twoSums[k].normal) << "point " << k;
+                ASSERT_EQ(oneSums[k].tangent, twoSums[k].tangent) << "point " << k;
+                ASSERT_EQ(oneSums[k].approach, twoSums[k].approach) << "point " << k;
+            }
+            for (std::size_t i = 0; i < heap.bodies.size(); ++i) {
+                ASSERT_EQ(one[i].velocity, two[i].velocity) << "body " << i;
+                ASSERT_EQ(one[i].angularVelocity, two[i].angularVelocity) << "body " << i;
+            }
         }
     }
+    // The first pass measured every approach before it warm started any point (the warm starts
+    // would change the approaches of the points after them), and then warm started them.
+    for (std::size_t c = 0; c < heap.contacts.size(); ++c) {
+        const Contact& con = heap.contacts[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            EXPECT_EQ(oneSums[heap.first[c] + k].approach,
+                      normalVelocityAt(con, heap.bodies[con.a], heap.bodies[con.b], con.points[k]));
+        }
+    }
+    one = heap.bodies;
+    oneSums.assign(heap.first.back(), PointImpulse{});
+    ContactSweeps().run(heap.contacts, heap.first, heap.invI, one, oneSums, 0, true, nullptr, &start);
+    double pushed = 0.0;  // the warm starts' momentum along y (kg m/s): the heap's points push up
+    for (std::size_t i = 0; i < one.size(); ++i) {
+        if (!one[i].isStatic()) pushed += one[i].mass * (one[i].velocity - heap.bodies[i].velocity).y();
+    }
+    EXPECT_GT(pushed, 0.0);
+    one = heap.bodies;
+    oneSums.assign(heap.first.back(), PointImpulse{});
+    ContactSweeps().run(heap.contacts, heap.first, heap.invI, one, oneSums, 10);
     // And the sweeps did their work: the pressing points approach far less than before them.
     const auto worstApproach = [&heap](const std::vector<Body>& bodies) {
         double worst = 0.0;  // m/s

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "gpl/body.h"
@@ -69,15 +70,26 @@ void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const P
 /// its sums nor its bodies' velocities, and whose bodies no solve has changed since, is not solved
 /// again: the kernels are pure, so that solve would change nothing. The state is the same, to the
 /// bit, as without.
+///
+/// With `start` (the friction stage), a first pass before the sweeps starts every point: start()
+/// sets the sums of contact c's points (their approach, and last step's sums to start from) from
+/// its bodies, and each point whose sums are not zero is then warm started with applyWarmStart().
+/// Every approach is measured before any warm start, as an impulse at one point changes the
+/// others': the middle's first, then each half measures its own and warm starts them (its impulses
+/// reach no body of the other half), then the middle is warm started. With two halves, the halves
+/// do this at once too.
 class ContactSweeps {
 public:
     /// Points from which a stage is cut in halves: below, the halves would be too small to gain
     /// from a second thread, and small scenes keep the plain order of their contacts.
     static constexpr std::size_t kSplitFrom = 512;
+    /// Sets the sums of contact c's points, sums[0 .. pointCount), from its bodies a and b as a part
+    /// sees them (called on either thread).
+    using Start = std::function<void(std::size_t c, const Body& a, const Body& b, PointImpulse* sums)>;
 
     void run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
              const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums, int sweeps,
-             bool skipIdle = true, SecondThread* second = nullptr);
+             bool skipIdle = true, SecondThread* second = nullptr, const Start* start = nullptr);
 
 private:
     /// One contact as a part solves it, everything it needs found beforehand.
@@ -107,6 +119,11 @@ private:
                const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums,
                bool packed);
     static void solve(Part& part, bool skipIdle);
+    /// The first pass with `start` (see the class).
+    void warmStart(const std::vector<Contact>& contacts, const Start& start, std::vector<Body>& bodies,
+                   SecondThread* second);
+    static void measure(Part& part, const std::vector<Contact>& contacts, const Start& start);
+    static void applyWarmStarts(Part& part);
 };
 /// ContactSweeps().run(...) on one thread (for tests).
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
