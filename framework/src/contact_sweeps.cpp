@@ -15,13 +15,11 @@ namespace gpl {
 
 void Halves::whole(std::size_t bodies) {
     cut_ = false;
-    packed_ = false;
     side_.assign(bodies, kLeft);
     local_.resize(bodies);
     for (std::size_t i = 0; i < bodies; ++i) local_[i] = i;
     versions_[kLeft].assign(bodies, 0);
     statics_.clear();
-    across_.clear();
 }
 
 void Halves::begin(const std::vector<Body>& bodies) {
@@ -30,8 +28,6 @@ void Halves::begin(const std::vector<Body>& bodies) {
     local_.assign(bodies.size(), 0);
     movable_.clear();
     statics_.clear();
-    across_.clear();
-    isAcross_.assign(bodies.size(), 0);
 }
 
 void Halves::finish(const std::vector<Body>& bodies) {
@@ -58,52 +54,7 @@ void Halves::finish(const std::vector<Body>& bodies) {
         local_[i] = members_[s].size();
         members_[s].push_back(i);
     }
-    for (int half : {kLeft, kRight}) {
-        versions_[half].assign(members_[half].size(), 0);
-        // For the parts to point at; pack() fills them.
-        if (packed_) packs_[half].resize(members_[half].size());
-    }
-}
-
-namespace {
-
-// What a time step changes in a body (the rest, its shape, mass properties, material and name, only
-// a scene sets): all that a kernel of the stage may have written to a copy, by design (the
-// velocities) or by mistake, without the cost of copying the whole body (its name among it).
-void copyMotion(const Body& from, Body& to) {
-    to.position = from.position;
-    to.velocity = from.velocity;
-    to.acceleration = from.acceleration;
-    to.angularVelocity = from.angularVelocity;
-    to.orientation = from.orientation;
-    to.force = from.force;
-    to.torque = from.torque;
-}
-
-}  // namespace
-
-void Halves::pack(const std::vector<Body>& bodies) {
-    if (!packed_) return;
-    for (int half : {kLeft, kRight}) {
-        for (std::size_t k = 0; k < members_[half].size(); ++k) packs_[half][k] = bodies[members_[half][k]];
-    }
-}
-
-void Halves::unpack(std::vector<Body>& bodies) const {
-    if (!packed_) return;
-    for (int half : {kLeft, kRight}) {
-        for (std::size_t k = 0; k < members_[half].size(); ++k) copyMotion(packs_[half][k], bodies[members_[half][k]]);
-    }
-}
-
-void Halves::acrossToBodies(std::vector<Body>& bodies) const {
-    if (!packed_) return;
-    for (const std::size_t i : across_) copyMotion(packs_[side_[i]][local_[i]], bodies[i]);
-}
-
-void Halves::acrossToHalves(const std::vector<Body>& bodies) {
-    if (!packed_) return;
-    for (const std::size_t i : across_) copyMotion(bodies[i], packs_[side_[i]][local_[i]]);
+    for (int half : {kLeft, kRight}) versions_[half].assign(members_[half].size(), 0);
 }
 
 void Halves::registerStatics(std::size_t a, std::size_t b) {
@@ -146,9 +97,8 @@ void Halves::mergeStatics(std::vector<Body>& bodies) {
 void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                         const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums,
                         int sweeps, bool skipIdle, SecondThread* second, const Start* start) {
-    split(contacts, first, invI, bodies, sums, second != nullptr);
+    split(contacts, first, invI, bodies, sums);
     const bool cut = halves_.cutInTwo();
-    halves_.pack(bodies);  // this and the other copies: only when the halves are packed
     if (start != nullptr) warmStart(contacts, *start, bodies, second);
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
     const std::function<void()> right = [this, skipIdle] { solve(parts_[Halves::kRight], skipIdle); };
@@ -161,12 +111,9 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
                 right();
             }
             halves_.mergeStatics(bodies);
-            halves_.acrossToBodies(bodies);
         }
         solve(parts_[Halves::kMiddle], skipIdle);
-        halves_.acrossToHalves(bodies);
     }
-    halves_.unpack(bodies);
     for (const Part& part : parts_) {
         for (const Job& job : part.jobs) {
             for (int k = 0; k < job.contact->pointCount; ++k) sums[job.global + k] = part.sums[job.point + k];
@@ -189,10 +136,8 @@ void ContactSweeps::warmStart(const std::vector<Contact>& contacts, const Start&
             theirs();
         }
         halves_.mergeStatics(bodies);
-        halves_.acrossToBodies(bodies);
     }
     applyWarmStarts(parts_[Halves::kMiddle]);
-    halves_.acrossToHalves(bodies);
 }
 
 void ContactSweeps::measure(Part& part, const std::vector<Contact>& contacts, const Start& start) {
@@ -212,11 +157,11 @@ void ContactSweeps::applyWarmStarts(Part& part) {
 
 void ContactSweeps::split(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
                           const std::vector<Mat3>& invI, std::vector<Body>& bodies,
-                          const std::vector<PointImpulse>& sums, bool packed) {
+                          const std::vector<PointImpulse>& sums) {
     if (sums.size() < kSplitFrom) {
         halves_.whole(bodies.size());
     } else {
-        halves_.cut(bodies, contacts, packed);
+        halves_.cut(bodies, contacts);
     }
     for (Part& part : parts_) {
         part.jobs.clear();

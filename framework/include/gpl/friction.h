@@ -114,10 +114,9 @@ private:
     std::array<Part, 3> parts_;  ///< left half, right half, middle
     Halves halves_;
 
-    /// The halves (packed for two threads) and the parts' jobs for this stage.
+    /// The halves and the parts' jobs for this stage.
     void split(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
-               const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums,
-               bool packed);
+               const std::vector<Mat3>& invI, std::vector<Body>& bodies, const std::vector<PointImpulse>& sums);
     static void solve(Part& part, bool skipIdle);
     /// The first pass with `start` (see the class).
     void warmStart(const std::vector<Contact>& contacts, const Start& start, std::vector<Body>& bodies,

@@ -9,14 +9,11 @@
 // half after the other gives the same result to the bit, and the cut depends on the bodies alone,
 // never on the threads.
 //
-// Each half solves packed copies of its movable bodies (pack(), unpack()), side by side in an array of
-// its own, so that the two threads write memory far apart. Solved where they are, among the other
-// half's bodies in the engine's array, the two threads slowed each other: with the copies the whole
-// run takes 0.93 of the time on the 8000-sphere heap, 0.97 on the 1000-sphere and the 1000-cube
-// heaps (whole runs timed in pairs). The bodies of pairs across the cut are copied to the engine's array
-// before the middle is solved, and back after it. Without a second thread there is no other thread
-// to keep apart from, and the halves solve the bodies where they are (the copies cost 2 % there):
-// the same state to the bit, which the tests of one thread against two check.
+// Each half solves its movable bodies where they are, in the engine's array (each body on cache lines
+// of its own). Packed copies of each half's bodies, side by side in an array of their own, were
+// tried: copying the bodies in and out cost more than they saved once the friction stage's first
+// pass ran in the halves too (whole runs timed in pairs, without the copies: 0.97 of the time on the
+// 1000-sphere, 8000-sphere and 1000-cube heaps).
 //
 // Each body also has a version that counts its changes, kept per side (a thread writes only its own
 // side's), for stages that skip what nothing has changed since it was last looked at.
@@ -35,17 +32,14 @@ class Halves {
 public:
     static constexpr int kLeft = 0, kRight = 1, kMiddle = 2, kNone = 3;
 
-    /// Cuts the movable bodies of `pairs` (anything with body indices .a and .b); with `packed`, the
-    /// halves solve packed copies of their movable bodies.
+    /// Cuts the movable bodies of `pairs` (anything with body indices .a and .b).
     template <class Pair>
-    void cut(const std::vector<Body>& bodies, const std::vector<Pair>& pairs, bool packed) {
-        packed_ = packed;
+    void cut(const std::vector<Body>& bodies, const std::vector<Pair>& pairs) {
         begin(bodies);
         for (const Pair& p : pairs) see(bodies, p.a), see(bodies, p.b);
         finish(bodies);
         for (const Pair& p : pairs) {
             if (side_[p.a] == kNone || side_[p.b] == kNone) registerStatics(p.a, p.b);  // most pairs have none
-            if (packed_ && part(p.a, p.b) == kMiddle) registerAcross(p.a), registerAcross(p.b);
         }
         copyStatics(bodies);
     }
@@ -58,11 +52,10 @@ public:
         const int sa = side_[a], sb = side_[b];
         return sa == kNone ? sb : sb == kNone ? sa : sa == sb ? sa : kMiddle;
     }
-    /// Body i as part `part` sees it: in a half, the half's copy (of a static body) or, when packed,
-    /// its packed copy (of a movable one), which pack() fills; otherwise the body.
+    /// Body i as part `part` sees it: in a half, the half's copy of a static body; otherwise the body.
     Body& body(int part, std::size_t i, std::vector<Body>& bodies) {
-        if (part == kMiddle || (!packed_ && side_[i] != kNone)) return bodies[i];
-        return side_[i] == kNone ? copies_[part][local_[i]] : packs_[part][local_[i]];
+        if (part == kMiddle || side_[i] != kNone) return bodies[i];
+        return copies_[part][local_[i]];
     }
     /// Body i's version as part `part` sees it (its copy's for a static body in a half).
     std::uint32_t& version(int part, std::size_t i) {
@@ -72,31 +65,17 @@ public:
     /// After the halves: what they did to their copies of the static bodies reaches the bodies, and
     /// the copies start again from the bodies.
     void mergeStatics(std::vector<Body>& bodies);
-    /// When packed: copies the halves' movable bodies into their packed copies (before the stage's
-    /// first sweep) and back (after its last), both on the caller's thread: each half's thread
-    /// copying its own was slower (1.06 of the time at 1000 spheres), as the caller then reads the
-    /// bodies from the other core's cache. Otherwise nothing.
-    void pack(const std::vector<Body>& bodies);
-    void unpack(std::vector<Body>& bodies) const;
-    /// When packed: the bodies of the pairs across the cut, from the halves' packed copies to the
-    /// bodies (before the middle is solved) and back (after). Otherwise nothing.
-    void acrossToBodies(std::vector<Body>& bodies) const;
-    void acrossToHalves(const std::vector<Body>& bodies);
     bool cutInTwo() const { return cut_; }
 
 private:
     bool cut_ = false;
-    bool packed_ = false;
     /// What version() gives for a body of no side in the middle, where no pair has one (a pair of a
     /// static body belongs to its other body's half): never compared, but never out of range.
     std::uint32_t uncounted_ = 0;
     std::vector<int> side_;                     ///< per body: kLeft, kRight, or kNone (static)
     std::vector<std::size_t> local_;            ///< per body: its place in its side's members_ (or statics_)
     std::array<std::vector<std::size_t>, 2> members_;     ///< per side, its movable bodies
-    std::array<std::vector<Body>, 2> packs_;              ///< per side, copies of members_ (when packed_)
     std::array<std::vector<std::uint32_t>, 2> versions_;  ///< per side, per movable body
-    std::vector<std::size_t> across_;           ///< the movable bodies of the pairs across the cut
-    std::vector<char> isAcross_;                ///< per body: in across_
     std::vector<std::size_t> movable_;          ///< the movable bodies of the pairs
     std::vector<double> along_;                 ///< their coordinates along the cut's axis
     std::vector<std::size_t> statics_;          ///< the static bodies of the halves' pairs
@@ -116,11 +95,6 @@ private:
     }
     void finish(const std::vector<Body>& bodies);
     void registerStatics(std::size_t a, std::size_t b);
-    void registerAcross(std::size_t i) {
-        if (side_[i] == kNone || isAcross_[i]) return;
-        isAcross_[i] = 1;
-        across_.push_back(i);
-    }
     void copyStatics(const std::vector<Body>& bodies);
 };
 
