@@ -146,10 +146,11 @@ void PhysicsEngine::solveContacts() {
     for (const Contact& con : contacts_) {
         for (const std::size_t i : {con.a, con.b}) {
             Normals& basis = normals_[i];
-            if (basis.count == 3) continue;
+            if (basis.count == 3 || bodies_[i].isStatic()) continue;  // a static body does not move
             Vec3 n = con.normal;  // its part not yet in the basis (Gram-Schmidt)
             for (int k = 0; k < basis.count; ++k) n -= n.dot(basis.axes[k]) * basis.axes[k];
-            if (n.norm() > 1e-3) basis.axes[basis.count++] = n.normalized();
+            const double length = n.norm();
+            if (length > 1e-3) basis.axes[basis.count++] = n / length;
         }
     }
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
