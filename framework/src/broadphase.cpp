@@ -81,23 +81,64 @@ char kindOf(const Body& b) { return b.shape == Shape::Plane ? kPlane : b.isStati
 
 }  // namespace
 
-bool BroadPhase::keptPairsHold(const std::vector<Body>& bodies, double margin) {
+Aabb BroadPhase::grownBox(const Body& body, double margin, double ahead) {
+    Aabb box = boundingBox(body, margin + kSkin);
+    const Vec3 reach = ahead * body.velocity;  // m, where the velocity carries it
+    box.min += reach.cwiseMin(Vec3::Zero());
+    box.max += reach.cwiseMax(Vec3::Zero());
+    return box;
+}
+
+bool BroadPhase::sameScene(const std::vector<Body>& bodies, double margin) {
     now_.resize(bodies.size());
     balls_.resize(bodies.size());
-    bool hold = margin == grownMargin_ && bodies.size() == grown_.size();
+    out_.clear();
+    bool same = margin == grownMargin_ && bodies.size() == grown_.size();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         const Body& b = bodies[i];
         const char kind = kindOf(b);
         if (kind == kPlane) {
-            hold = hold && kind_[i] == kPlane && b.position == grown_[i].min && planeNormal(b) == grown_[i].max;
+            same = same && kind_[i] == kPlane && b.position == grown_[i].min && planeNormal(b) == grown_[i].max;
             continue;
         }
         now_[i] = boundingBox(b, margin);
         balls_[i] = ballOf(b, margin);
-        hold = hold && kind == kind_[i] && (grown_[i].min.array() <= now_[i].min.array()).all() &&
-               (now_[i].max.array() <= grown_[i].max.array()).all();
+        same = same && kind == kind_[i];
+        if (same && !((grown_[i].min.array() <= now_[i].min.array()).all() &&
+                      (now_[i].max.array() <= grown_[i].max.array()).all())) {
+            out_.push_back(i);
+        }
     }
-    return hold;
+    return same;
+}
+
+void BroadPhase::update(const std::vector<Body>& bodies, double margin, double ahead) {
+    // The bodies out of their grown boxes get new ones and lose their kept pairs.
+    left_.assign(bodies.size(), 0);
+    for (const std::size_t i : out_) {
+        grown_[i] = grownBox(bodies[i], margin, ahead);
+        left_[i] = 1;
+    }
+    kept_.erase(std::remove_if(kept_.begin(), kept_.end(), [this](const BodyPair& p) { return left_[p.a] || left_[p.b]; }),
+                kept_.end());
+    // Their pairs with every other body's grown box (two that both left, once: from the first).
+    fresh_.clear();
+    for (const std::size_t i : out_) {
+        for (std::size_t j = 0; j < bodies.size(); ++j) {
+            if (j == i || (left_[j] && j < i)) continue;
+            bool touch = false;
+            if (kind_[j] == kPlane) {
+                touch = kind_[i] == kMovable && reachesPlane(grown_[i], grown_[j].min, grown_[j].max);
+            } else {
+                touch = !(kind_[i] == kStatic && kind_[j] == kStatic) && overlap(grown_[i], grown_[j]);
+            }
+            if (touch) fresh_.push_back({std::min(i, j), std::max(i, j)});
+        }
+    }
+    std::sort(fresh_.begin(), fresh_.end());
+    placed_.resize(kept_.size() + fresh_.size());
+    std::merge(kept_.begin(), kept_.end(), fresh_.begin(), fresh_.end(), placed_.begin());
+    kept_.swap(placed_);
 }
 
 void BroadPhase::filterKept() {
@@ -117,7 +158,11 @@ void BroadPhase::filterKept() {
 
 const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodies, double margin,
                                                    SecondThread* second, double ahead) {
-    if (keptPairsHold(bodies, margin)) {
+    if (sameScene(bodies, margin) && out_.size() <= kUpdateAtMost) {
+        if (!out_.empty()) {
+            update(bodies, margin, ahead);
+            ++updates_;
+        }
         filterKept();
         return pairs_;
     }
@@ -135,10 +180,7 @@ const std::vector<BodyPair>& BroadPhase::findPairs(const std::vector<Body>& bodi
             planes_.push_back(i);
             continue;
         }
-        Aabb box = boundingBox(bodies[i], margin + kSkin);
-        const Vec3 reach = ahead * bodies[i].velocity;  // m, where the velocity carries it
-        box.min += reach.cwiseMin(Vec3::Zero());
-        box.max += reach.cwiseMax(Vec3::Zero());
+        const Aabb box = grownBox(bodies[i], margin, ahead);
         entries_.push_back({box, i, bodies[i].isStatic()});
         sizes_.push_back((box.max - box.min).maxCoeff());
     }

@@ -170,6 +170,42 @@ TEST(BroadPhase, KeptPairsAnswerAsASearchAnewWould) {
     EXPECT_EQ(broadPhase.searches(), before + 6) << "each change searched anew";
 }
 
+TEST(BroadPhase, AFewBodiesOutOfTheirBoxesAreUpdatedNotSearched) {
+    // Up to kUpdateAtMost bodies that leave their grown boxes (far, across the scene, onto each
+    // other, a static one moved, one through a plane) get their pairs anew against every other
+    // body; more search anew. Each time the pairs of testing every pair.
+    std::vector<Body> bodies = randomScene(5, 700, 2, 9.0);  // the grid
+    std::mt19937 random(5);
+    std::uniform_int_distribution<std::size_t> pick(0, bodies.size() - 1);
+    BroadPhase broadPhase;
+    const auto check = [&](const std::string& what) {
+        ASSERT_EQ(broadPhase.findPairs(bodies, 0.1, nullptr, 0.05), bruteForcePairs(bodies, 0.1)) << what;
+    };
+    check("first call");
+    const std::size_t searches = broadPhase.searches();
+    const auto finite = [&](std::size_t i) { return bodies[i].shape != Shape::Plane; };
+    for (int round = 0; round < 20; ++round) {
+        const std::size_t moved = round % 5 == 4 ? BroadPhase::kUpdateAtMost : 1 + round % 4;
+        std::size_t first = pick(random);
+        while (!finite(first)) first = pick(random);
+        for (std::size_t k = 0; k < moved; ++k) {
+            std::size_t i = pick(random);
+            while (!finite(i)) i = pick(random);
+            // Onto the first moved body (a pair of two moved bodies), or anywhere in the scene.
+            bodies[i].position = k % 3 == 1 ? bodies[first].position + Vec3(0.1, 0.0, 0.0)
+                                            : Vec3(pick(random) % 9, pick(random) % 9, pick(random) % 9);
+        }
+        check("round " + std::to_string(round));
+    }
+    EXPECT_EQ(broadPhase.searches(), searches) << "a few bodies out: updated";
+    EXPECT_EQ(broadPhase.updates(), 20u);
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        if (finite(i)) bodies[i].position += Vec3(3.0, 0.0, 0.0);  // every body out: a search
+    }
+    check("every body moved");
+    EXPECT_EQ(broadPhase.searches(), searches + 1);
+}
+
 TEST(BroadPhase, StaticBodiesNeverPairWithEachOther) {
     std::vector<Body> bodies = {plane("floor", Vec3::UnitY()), box("shelf", {1, 1, 1}, 1.0).makeStatic(),
                                 sphere("pillar", 1.0, 1.0).makeStatic(), sphere("ball", 0.5, 1.0).at({0, 0.4, 0})};

@@ -24,7 +24,12 @@
 // `ahead` seconds), keeps those and the grown boxes, and answers the next calls from them for as
 // long as every body's box stays inside its grown one, the bodies and the margin are the same, and
 // no static body has changed: a pair that overlaps then overlaps with the grown boxes too, so
-// testing the kept pairs again gives exactly the pairs of searching anew, in the same order.
+// testing the kept pairs again gives exactly the pairs of searching anew, in the same order. When
+// a few bodies (up to kUpdateAtMost) have left their grown boxes and nothing else has changed,
+// those get grown boxes anew and their kept pairs are found again against every other body's grown
+// box (update()): the kept pairs then again hold every pair of grown boxes that overlap, and the
+// answer is the same. In a settled heap most calls that would search anew find one to a dozen
+// bodies out.
 //
 // With two threads (setThreads(), the default where the machine has two cores) and a SecondThread
 // handed to findPairs() (the engine's), the grid tests its boxes in two halves at once; the pairs
@@ -74,6 +79,8 @@ public:
                                            SecondThread* second = nullptr, double ahead = 0.0);
     /// Calls so far that searched anew (the others answered from the kept pairs).
     std::size_t searches() const { return searches_; }
+    /// Calls so far that updated the kept pairs of a few bodies out of their grown boxes.
+    std::size_t updates() const { return updates_; }
     /// Threads the grid's tests may use (1 or 2; more count as 2).
     void setThreads(int threads) { threads_ = threads < 2 ? 1 : 2; }
     int threads() const { return threads_; }
@@ -84,6 +91,9 @@ public:
     static constexpr double kLargeSizes = 4.0;
     /// The skin of the kept pairs' boxes, in times each body's size (as the margin).
     static constexpr double kSkin = 0.2;
+    /// Bodies out of their grown boxes up to which a call updates their kept pairs (each tested
+    /// against every other body) rather than searching anew.
+    static constexpr std::size_t kUpdateAtMost = 32;
 
 private:
     /// A body's box.
@@ -126,11 +136,21 @@ private:
     std::vector<Ball> balls_;  ///< and the spheres' balls, likewise
     double grownMargin_ = -1.0;
     std::vector<BodyPair> kept_;
+    std::vector<std::size_t> out_;  ///< this call's bodies out of their grown boxes
+    std::vector<char> left_;        ///< per body: in out_ (update()'s)
+    std::vector<BodyPair> fresh_;   ///< update()'s new pairs
     std::size_t searches_ = 0;
+    std::size_t updates_ = 0;
     int threads_ = defaultThreads();
 
-    /// True when the kept pairs still hold every overlap (see the head of this file); fills now_.
-    bool keptPairsHold(const std::vector<Body>& bodies, double margin);
+    /// True when nothing but the bodies' boxes has changed since the kept pairs were found (see
+    /// the head of this file); fills now_, balls_ and out_.
+    bool sameScene(const std::vector<Body>& bodies, double margin);
+    /// Grown boxes anew for the bodies of out_, and their kept pairs found again against every
+    /// other body's grown box.
+    void update(const std::vector<Body>& bodies, double margin, double ahead);
+    /// A body's box grown by the skin and along its velocity.
+    static Aabb grownBox(const Body& body, double margin, double ahead);
     /// pairs_: the kept pairs whose boxes in now_ overlap (or reach their plane).
     void filterKept();
     /// The pairs of entries_ by sort and sweep, into pairs_.
