@@ -1,6 +1,6 @@
-// The friction stage's sweeps (friction.h): applyNormalImpulse() then applyFrictionImpulse() at every
-// contact point, contactIterations() times, with idle points skipped; a large stage in two Halves
-// (halves.h), which come first here.
+// The friction stage's sweeps (friction.h): a first pass that measures and warm starts every point,
+// then applyNormalImpulse() and applyFrictionImpulse() at every contact point, contactIterations()
+// times, with idle points skipped; a large stage in two Halves (halves.h), which come first here.
 //
 // Skipping: per body, a version that counts its changes; per point, the versions of its two bodies
 // when it was last solved, and whether that solve changed nothing. Such a point is skipped while
@@ -127,8 +127,14 @@ void ContactSweeps::warmStart(const std::vector<Contact>& contacts, const Start&
     if (halves_.cutInTwo()) {
         Part& left = parts_[Halves::kLeft];
         Part& right = parts_[Halves::kRight];
-        const std::function<void()> mine = [&] { measure(left, contacts, start), applyWarmStarts(left); };
-        const std::function<void()> theirs = [&] { measure(right, contacts, start), applyWarmStarts(right); };
+        const std::function<void()> mine = [&] {
+            measure(left, contacts, start);
+            applyWarmStarts(left);
+        };
+        const std::function<void()> theirs = [&] {
+            measure(right, contacts, start);
+            applyWarmStarts(right);
+        };
         if (second != nullptr) {
             second->run(true, mine, theirs);
         } else {
