@@ -187,10 +187,28 @@ void ContactSweeps::split(const std::vector<Contact>& contacts, const std::vecto
         part.seenA.assign(part.sums.size(), 0);
         part.seenB.assign(part.sums.size(), 0);
         part.idle.assign(part.sums.size(), 0);
+        part.shared.clear();
+    }
+    if (!halves_.cutInTwo()) return;
+    // The bodies of the pairs across the cut: the middle writes them, and so does each one's half.
+    inMiddle_.assign(bodies.size(), 0);
+    for (const Job& job : parts_[Halves::kMiddle].jobs) {
+        for (const std::size_t i : {job.contact->a, job.contact->b}) {
+            if (inMiddle_[i]) continue;
+            inMiddle_[i] = 1;
+            parts_[Halves::kMiddle].shared.push_back(&bodies[i]);
+            parts_[halves_.part(i, i)].shared.push_back(&bodies[i]);
+        }
     }
 }
 
 void ContactSweeps::solve(Part& part, bool skipIdle) {
+    // The bodies the other thread wrote last are asked for at once, not each when the solve reaches
+    // it: their first two cache lines (the velocities, which the sweeps write; body.h).
+    for (const Body* b : part.shared) {
+        __builtin_prefetch(b, 1);
+        __builtin_prefetch(reinterpret_cast<const char*>(b) + 64, 1);
+    }
     for (const Job& job : part.jobs) {
         const Contact& con = *job.contact;
         Body& a = *job.a;
