@@ -103,15 +103,7 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
     const std::function<void()> right = [this, skipIdle] { solve(parts_[Halves::kRight], skipIdle); };
     for (int sweep = 0; sweep < sweeps; ++sweep) {
-        if (cut) {
-            if (second != nullptr) {
-                second->run(true, left, right);
-            } else {
-                left();
-                right();
-            }
-            halves_.mergeStatics(bodies);
-        }
+        if (cut) bothHalves(left, right, bodies, second);
         solve(parts_[Halves::kMiddle], skipIdle);
     }
     for (const Part& part : parts_) {
@@ -135,15 +127,20 @@ void ContactSweeps::warmStart(const std::vector<Contact>& contacts, const Start&
             measure(right, contacts, start);
             applyWarmStarts(right);
         };
-        if (second != nullptr) {
-            second->run(true, mine, theirs);
-        } else {
-            mine();
-            theirs();
-        }
-        halves_.mergeStatics(bodies);
+        bothHalves(mine, theirs, bodies, second);
     }
     applyWarmStarts(parts_[Halves::kMiddle]);
+}
+
+void ContactSweeps::bothHalves(const std::function<void()>& left, const std::function<void()>& right,
+                               std::vector<Body>& bodies, SecondThread* second) {
+    if (second != nullptr) {
+        second->run(true, left, right);
+    } else {
+        left();
+        right();
+    }
+    halves_.mergeStatics(bodies);
 }
 
 void ContactSweeps::measure(Part& part, const std::vector<Contact>& contacts, const Start& start) {

@@ -127,6 +127,10 @@ private:
                    SecondThread* second);
     static void measure(Part& part, const std::vector<Contact>& contacts, const Start& start);
     static void applyWarmStarts(Part& part);
+    /// The two halves' work, at once with `second` (else left first); then what they did to their
+    /// copies of the static bodies reaches the bodies.
+    void bothHalves(const std::function<void()>& left, const std::function<void()>& right, std::vector<Body>& bodies,
+                    SecondThread* second);
 };
 /// ContactSweeps().run(...) on one thread (for tests).
 void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
