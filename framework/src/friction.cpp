@@ -83,8 +83,10 @@ void PhysicsEngine::keepRestingContacts() {
     // Last step's pairs: is each still in contact, and how deep?
     std::vector<int>& found = found_;
     found.assign(contactMemory_.entries.size(), -1);
+    rememberedOf_.resize(contacts_.size());
     for (std::size_t c = 0; c < contacts_.size(); ++c) {
         const ContactMemory::Entry* old = remembered(contactMemory_, contacts_[c].a, contacts_[c].b);
+        rememberedOf_[c] = old;
         if (old != nullptr) {
             const std::size_t m = static_cast<std::size_t>(old - contactMemory_.entries.data());
             if (found[m] < 0) found[m] = static_cast<int>(c);
@@ -108,6 +110,7 @@ void PhysicsEngine::keepRestingContacts() {
             contacts_[found[m]] = *near;
         } else {
             contacts_.push_back(*near);
+            rememberedOf_.push_back(remembered(contactMemory_, e.a, e.b));
         }
     }
 }
@@ -130,7 +133,7 @@ void PhysicsEngine::solveContacts() {
     // Each point's approach and last step's sums, measured and warm started by the sweeps' first pass.
     const ContactSweeps::Start start = [this](std::size_t c, const Body& a, const Body& b, PointImpulse* sums) {
         const Contact& con = contacts_[c];
-        const ContactMemory::Entry* old = remembered(contactMemory_, con.a, con.b);
+        const ContactMemory::Entry* old = rememberedOf_[c];
         for (int k = 0; k < con.pointCount; ++k) {
             sums[k] = warmSums(contactMemory_, old, con.points[k], con.normal);
             sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);

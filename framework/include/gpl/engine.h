@@ -273,6 +273,8 @@ private:
     std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
     std::vector<std::size_t> placeAt_;     ///< the friction stage's buffer for orderByPair(), per body
     std::vector<int> found_;               ///< the friction stage's, per remembered pair: its contact now
+    /// The friction stage's, per contact: last step's entry of its pair, or nullptr (keepRestingContacts()).
+    std::vector<const ContactMemory::Entry*> rememberedOf_;
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().
