@@ -232,6 +232,9 @@ public:
     bool allFinite() const;
 
 private:
+    /// The grader's copy of an engine in another process (tests/grading/engine_access.h).
+    friend struct EngineAccess;
+
     std::vector<Body> bodies_;
     Vec3 gravity_ = standardGravity();
     double timeStep_ = kDefaultTimeStep;

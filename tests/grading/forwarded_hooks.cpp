@@ -1,0 +1,206 @@
+// The student hooks as the checker has them: every one is a request to the submission's engine
+// (submission.h). The checker's own engine (the mirror a graded test steps) runs the framework's
+// code here, trusted: step() clears the contacts, advances the clock and checks that every body is
+// finite; gravity and the time step are the mirror's. Only simulationTimestep() and integrator()
+// cross to the submission, with the mirror's world; they bring back the motion of its bodies.
+#include <cstring>
+#include <string>
+
+#include "engine_access.h"
+#include "gpl/collision.h"
+#include "gpl/engine.h"
+#include "gpl/response.h"
+#include "gpl/rotation.h"
+#include "gpl/scenes.h"
+#include "submission.h"
+
+namespace gpl {
+namespace {
+
+using grading::Call;
+using grading::Reader;
+using grading::Writer;
+
+// What the submission's engine holds now: whose world (the mirror it last answered), and that
+// mirror's bodies and last positions as they were after the answer. A request sends the bodies only
+// when the mirror's differ (a test changed them), so that a run of steps sends each state once.
+const PhysicsEngine* heldFor = nullptr;
+std::vector<Body> heldBodies;
+std::vector<Vec3> heldPrevious;
+std::size_t heldSteps = 0;
+
+void engineCall(Call call, PhysicsEngine& mirror) {
+    // Another engine (or this one, loaded anew): the submission starts from a fresh engine too.
+    const bool fresh = heldFor != &mirror || mirror.stepCount() < heldSteps;
+    const bool send = fresh || !EngineAccess::sameBodies(heldBodies, heldPrevious, mirror);
+    Writer w;
+    w.u8(fresh ? 1 : 0);
+    EngineAccess::writeWorld(w, mirror, send);
+    heldFor = nullptr;  // until the answer is read whole: a hook that throws leaves its engine as it was then
+    const std::string answer = grading::request(call, w.bytes());
+    grading::parseAnswer(call, answer, [&](Reader& r) { EngineAccess::readChanges(r, mirror); });
+    for (const std::string& hook : grading::openHooksOfLastAnswer()) mirror.notImplemented(hook);
+    heldBodies = EngineAccess::bodies(mirror);
+    heldPrevious = EngineAccess::previousPositions(mirror);
+    heldFor = &mirror;
+    heldSteps = mirror.stepCount();
+}
+
+std::optional<Contact> contactCall(Call call, const Body& a, const Body& b) {
+    Writer w;
+    w.body(a);
+    w.body(b);
+    std::optional<Contact> c;
+    grading::parseAnswer(call, grading::request(call, w.bytes()), [&](Reader& r) { c = r.optionalContact(); });
+    return c;
+}
+
+/// A kernel that changes two bodies: their motion comes back, the rest stays the checker's.
+void twoBodies(Call call, const Writer& inputs, Body& a, Body& b, PointImpulse* sum = nullptr) {
+    grading::parseAnswer(call, grading::request(call, inputs.bytes()), [&](Reader& r) {
+        const Body na = r.body(), nb = r.body();
+        EngineAccess::copyMotion(na, a);
+        EngineAccess::copyMotion(nb, b);
+        if (sum) *sum = r.pointImpulse();
+    });
+}
+
+void particleCall(Call call, ParticleState& state, const AccelerationFunction& accel, double h) {
+    Writer w;
+    w.particles(state);
+    w.number(h);
+    const std::size_t n = state.x.size();
+    grading::parseAnswer(call, grading::request(call, w.bytes(), &accel), [&](Reader& r) {
+        ParticleState s = r.particles();
+        if (s.x.size() != n || s.v.size() != n || s.a.size() != n || (!s.xPrev.empty() && s.xPrev.size() != n)) {
+            throw grading::ProtocolError("the kernel answered with another number of particles");
+        }
+        state = std::move(s);
+    });
+}
+
+}  // namespace
+
+// ---- Worksheet 1: the engine's hooks ------------------------------------------------------------
+
+void PhysicsEngine::simulationTimestep() { engineCall(Call::SimulationTimestep, *this); }
+void PhysicsEngine::integrator() { engineCall(Call::Integrator, *this); }
+
+// ---- Worksheet 2 --------------------------------------------------------------------------------
+
+void positionVerlet(ParticleState& state, const AccelerationFunction& accel, double h) {
+    particleCall(Call::PositionVerlet, state, accel, h);
+}
+void velocityVerlet(ParticleState& state, const AccelerationFunction& accel, double h) {
+    particleCall(Call::VelocityVerlet, state, accel, h);
+}
+
+// ---- Worksheets 3, 4, 5: contacts ---------------------------------------------------------------
+
+std::optional<Contact> sphereSphere(const Body& a, const Body& b) { return contactCall(Call::SphereSphere, a, b); }
+std::optional<Contact> spherePlane(const Body& s, const Body& p) { return contactCall(Call::SpherePlane, s, p); }
+std::optional<Contact> sphereBox(const Body& s, const Body& b) { return contactCall(Call::SphereBox, s, b); }
+std::optional<Contact> boxPlane(const Body& b, const Body& p) { return contactCall(Call::BoxPlane, b, p); }
+std::optional<Contact> boxBox(const Body& a, const Body& b) { return contactCall(Call::BoxBox, a, b); }
+
+std::optional<Contact> ropeContact(const Body& a, const Body& b, double length) {
+    Writer w;
+    w.body(a);
+    w.body(b);
+    w.number(length);
+    std::optional<Contact> c;
+    grading::parseAnswer(Call::RopeContact, grading::request(Call::RopeContact, w.bytes()),
+                         [&](Reader& r) { c = r.optionalContact(); });
+    return c;
+}
+
+void resolveInterpenetration(const Contact& contact, Body& a, Body& b) {
+    Writer w;
+    w.contact(contact);
+    w.body(a);
+    w.body(b);
+    twoBodies(Call::ResolveInterpenetration, w, a, b);
+}
+
+void applyCollisionImpulse(const Contact& contact, Body& a, Body& b) {
+    Writer w;
+    w.contact(contact);
+    w.body(a);
+    w.body(b);
+    twoBodies(Call::ApplyCollisionImpulse, w, a, b);
+}
+
+// ---- Worksheet 6: rotation ----------------------------------------------------------------------
+
+Mat3 worldInverseInertia(const Body& body) {
+    Writer w;
+    w.body(body);
+    Mat3 m;
+    grading::parseAnswer(Call::WorldInverseInertia, grading::request(Call::WorldInverseInertia, w.bytes()),
+                         [&](Reader& r) { m = r.mat3(); });
+    return m;
+}
+
+void integrateRotation(Body& body, double h) {
+    Writer w;
+    w.body(body);
+    w.number(h);
+    grading::parseAnswer(Call::IntegrateRotation, grading::request(Call::IntegrateRotation, w.bytes()),
+                         [&](Reader& r) { EngineAccess::copyMotion(r.body(), body); });
+}
+
+void applyImpulseAtPoint(Body& a, Body& b, const Vec3& point, const Vec3& impulse) {
+    Writer w;
+    w.body(a);
+    w.body(b);
+    w.vec3(point);
+    w.vec3(impulse);
+    twoBodies(Call::ApplyImpulseAtPoint, w, a, b);
+}
+
+void applyContactImpulse(const Contact& contact, Body& a, Body& b) {
+    Writer w;
+    w.contact(contact);
+    w.body(a);
+    w.body(b);
+    twoBodies(Call::ApplyContactImpulse, w, a, b);
+}
+
+// ---- Worksheet 7: friction ----------------------------------------------------------------------
+
+namespace {
+Writer pointInputs(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, const Body& a,
+                   const Body& b, const PointImpulse& sum) {
+    Writer w;
+    w.contact(contact);
+    w.i32(point);
+    w.mat3(invIa);
+    w.mat3(invIb);
+    w.body(a);
+    w.body(b);
+    w.pointImpulse(sum);
+    return w;
+}
+}  // namespace
+
+void applyNormalImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
+                        PointImpulse& sum) {
+    twoBodies(Call::ApplyNormalImpulse, pointInputs(contact, point, invIa, invIb, a, b, sum), a, b, &sum);
+}
+
+void applyFrictionImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
+                          PointImpulse& sum) {
+    twoBodies(Call::ApplyFrictionImpulse, pointInputs(contact, point, invIa, invIb, a, b, sum), a, b, &sum);
+}
+
+void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const PointImpulse& sum) {
+    PointImpulse unchanged = sum;
+    twoBodies(Call::ApplyWarmStart, pointInputs(contact, point, Mat3::Zero(), Mat3::Zero(), a, b, sum), a, b,
+              &unchanged);
+}
+
+// ---- The student's own scenes -------------------------------------------------------------------
+
+void addStudentScenes(SceneRegistry&) {}  // the checker grades the course's scenes
+
+}  // namespace gpl

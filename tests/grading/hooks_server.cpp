@@ -1,0 +1,317 @@
+// gpl-hooks-VARIANT --serve: a variant's hooks answering the checker's requests. This program holds
+// the student's code and runs only in the grader's sandbox (tools/grading/sandbox.py), under the
+// system-call filter the launcher (launch.cpp) puts in force before it starts. It reads requests
+// from file descriptor 3 and writes answers to 4 (protocol.h); what the hooks print goes to its
+// standard output and error, which the grader caps. It decides nothing: the checker, in another
+// process, compares what it answers with physics.
+#include <execinfo.h>
+#include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <memory>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "engine_access.h"
+#include "gpl/collision.h"
+#include "gpl/engine.h"
+#include "gpl/hooks.h"
+#include "gpl/response.h"
+#include "gpl/rotation.h"
+#include "protocol.h"
+
+namespace gpl::grading {
+namespace {
+
+constexpr int kIn = 3;
+constexpr int kOut = 4;
+
+// ---- Where the hooks were when the process ended ---------------------------------------------------
+// With GPL_GRADER_TRACE naming a file, a crash signal, the grader's SIGUSR1 at a limit it watches,
+// or a signal of a limit the kernel keeps (SIGXCPU, SIGXFSZ, SIGSYS for a refused system call)
+// writes the call stack there and ends the process as the signal would have. The grader reads the
+// hook from it only within the call the checker was waiting for (the checker names that call).
+
+int traceFd = -1;
+char* stackLow = nullptr;   // the main thread's stack: a fault just below it is an overflow
+char* stackHigh = nullptr;
+constexpr int kTracedSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGUSR1, SIGXCPU, SIGXFSZ, SIGSYS};
+
+void writeText(const char* text) {
+    if (write(traceFd, text, std::strlen(text)) < 0) return;  // nothing else to do in a handler
+}
+
+// What a refused system call tried, as the launcher's filter tags it (SECCOMP_RET_DATA, si_errno).
+const char* refusedKind(int tag) {
+    switch (tag) {
+        case 1: return "grader: forbidden system call: process\n";
+        case 2: return "grader: forbidden system call: network\n";
+        case 3: return "grader: forbidden system call: namespace\n";
+        case 4: return "grader: forbidden system call: shared memory\n";
+        case 5: return "grader: forbidden system call: signal to another process\n";
+        case 6: return "grader: forbidden system call: kernel interface\n";
+        default: return "grader: forbidden system call\n";
+    }
+}
+
+void writeTrace(int signal, siginfo_t* info, void*) {
+    // The grader's and the CPU limit's signals go to the whole process and any thread may take
+    // them; the main thread's stack is the one that leads into the hooks.
+    const long mainThread = getpid();
+    if ((signal == SIGUSR1 || signal == SIGXCPU) && syscall(SYS_gettid) != mainThread) {
+        syscall(SYS_tgkill, mainThread, mainThread, signal);
+        return;
+    }
+    if (signal == SIGSYS && info) writeText(refusedKind(info->si_errno));
+    if (signal == SIGSEGV && info && stackLow) {
+        const char* at = static_cast<const char*>(info->si_addr);
+        if (at < stackHigh && at >= stackLow - (1 << 20)) writeText("grader: stack overflow\n");
+    }
+    void* frames[64];
+    const int n = backtrace(frames, 64);
+    backtrace_symbols_fd(frames, n, traceFd);
+    ::signal(signal, SIG_DFL);
+    raise(signal);
+}
+
+void installTraceHandlers() {
+    const char* path = std::getenv("GPL_GRADER_TRACE");
+    if (!path || !*path) return;
+    traceFd = open(path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (traceFd < 0) return;
+    void* warmUp[1];
+    backtrace(warmUp, 1);  // loads what backtrace() needs now, not inside a signal handler
+    pthread_attr_t attributes;
+    if (pthread_getattr_np(pthread_self(), &attributes) == 0) {
+        void* low = nullptr;
+        std::size_t size = 0;
+        if (pthread_attr_getstack(&attributes, &low, &size) == 0) {
+            stackLow = static_cast<char*>(low);
+            stackHigh = stackLow + size;
+        }
+        pthread_attr_destroy(&attributes);
+    }
+    // An endless recursion leaves no stack for the handler: it gets its own.
+    static char altStack[1 << 16];
+    stack_t stack{};
+    stack.ss_sp = altStack;
+    stack.ss_size = sizeof altStack;
+    sigaltstack(&stack, nullptr);
+    struct sigaction action {};
+    action.sa_sigaction = writeTrace;
+    action.sa_flags = SA_ONSTACK | SA_SIGINFO;
+    sigemptyset(&action.sa_mask);
+    for (int s : kTracedSignals) sigaction(s, &action, nullptr);
+}
+
+// ---- Answering -----------------------------------------------------------------------------------
+
+/// The hooks still open: the engine's and the kernels' whose stubs ran.
+std::vector<std::string> openHooks(const PhysicsEngine& engine) {
+    std::vector<std::string> open(engine.missingHooks().begin(), engine.missingHooks().end());
+    for (const std::string& h : kernelsNotImplemented()) open.push_back(h);
+    return open;
+}
+
+/// The acceleration function of an integrator kernel: each evaluation asks the checker.
+AccelerationFunction askChecker(std::size_t n) {
+    return [n](const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& a) {
+        Writer w;
+        w.u8(static_cast<std::uint8_t>(Frame::AskAccelerations));
+        w.vec3s(x);
+        w.vec3s(v);
+        if (!sendFrame(kOut, w.bytes())) std::_Exit(0);
+        const auto frame = receiveFrame(kIn);
+        if (!frame) std::_Exit(0);
+        Reader r(*frame);
+        if (r.u8() != static_cast<std::uint8_t>(Frame::Accelerations)) throw ProtocolError("expected accelerations");
+        a = r.vec3s();
+        r.end();
+        if (x.size() != n) a.assign(x.size(), Vec3::Zero());
+    };
+}
+
+/// Calls the hook the request names with its inputs; writes its outputs.
+void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& held) {
+    switch (call) {
+        case Call::SimulationTimestep:
+        case Call::Integrator: {
+            // A fresh engine for another of the checker's engines (or one loaded anew).
+            if (in.u8()) held = std::make_unique<PhysicsEngine>();
+            PhysicsEngine& e = *held;
+            EngineAccess::readWorld(in, e);
+            if (call == Call::SimulationTimestep) {
+                e.simulationTimestep();
+            } else {
+                e.integrator();
+            }
+            EngineAccess::writeChanges(out, e);
+            return;
+        }
+        case Call::PositionVerlet:
+        case Call::VelocityVerlet: {
+            ParticleState s = in.particles();
+            const double h = in.number();
+            in.end();
+            const AccelerationFunction accel = askChecker(s.x.size());
+            if (call == Call::PositionVerlet) {
+                positionVerlet(s, accel, h);
+            } else {
+                velocityVerlet(s, accel, h);
+            }
+            out.particles(s);
+            return;
+        }
+        case Call::SphereSphere:
+        case Call::SpherePlane:
+        case Call::SphereBox:
+        case Call::BoxPlane:
+        case Call::BoxBox: {
+            const Body a = in.body(), b = in.body();
+            in.end();
+            std::optional<Contact> c;
+            if (call == Call::SphereSphere) c = sphereSphere(a, b);
+            if (call == Call::SpherePlane) c = spherePlane(a, b);
+            if (call == Call::SphereBox) c = sphereBox(a, b);
+            if (call == Call::BoxPlane) c = boxPlane(a, b);
+            if (call == Call::BoxBox) c = boxBox(a, b);
+            out.optionalContact(c);
+            return;
+        }
+        case Call::RopeContact: {
+            const Body a = in.body(), b = in.body();
+            const double length = in.number();
+            in.end();
+            out.optionalContact(ropeContact(a, b, length));
+            return;
+        }
+        case Call::ResolveInterpenetration:
+        case Call::ApplyCollisionImpulse:
+        case Call::ApplyContactImpulse: {
+            const Contact c = in.contact();
+            Body a = in.body(), b = in.body();
+            in.end();
+            if (call == Call::ResolveInterpenetration) resolveInterpenetration(c, a, b);
+            if (call == Call::ApplyCollisionImpulse) applyCollisionImpulse(c, a, b);
+            if (call == Call::ApplyContactImpulse) applyContactImpulse(c, a, b);
+            out.body(a);
+            out.body(b);
+            return;
+        }
+        case Call::WorldInverseInertia: {
+            const Body b = in.body();
+            in.end();
+            out.mat3(worldInverseInertia(b));
+            return;
+        }
+        case Call::IntegrateRotation: {
+            Body b = in.body();
+            const double h = in.number();
+            in.end();
+            integrateRotation(b, h);
+            out.body(b);
+            return;
+        }
+        case Call::ApplyImpulseAtPoint: {
+            Body a = in.body(), b = in.body();
+            const Vec3 point = in.vec3(), impulse = in.vec3();
+            in.end();
+            applyImpulseAtPoint(a, b, point, impulse);
+            out.body(a);
+            out.body(b);
+            return;
+        }
+        case Call::ApplyNormalImpulse:
+        case Call::ApplyFrictionImpulse:
+        case Call::ApplyWarmStart: {
+            const Contact c = in.contact();
+            const int point = in.i32();
+            const Mat3 invIa = in.mat3(), invIb = in.mat3();
+            Body a = in.body(), b = in.body();
+            PointImpulse sum = in.pointImpulse();
+            in.end();
+            if (call == Call::ApplyNormalImpulse) applyNormalImpulse(c, point, invIa, invIb, a, b, sum);
+            if (call == Call::ApplyFrictionImpulse) applyFrictionImpulse(c, point, invIa, invIb, a, b, sum);
+            if (call == Call::ApplyWarmStart) applyWarmStart(c, point, a, b, sum);
+            out.body(a);
+            out.body(b);
+            out.pointImpulse(sum);
+            return;
+        }
+        case Call::End:
+            break;
+    }
+    throw ProtocolError("a request for an unknown hook");
+}
+
+void thrown(Writer& out, Thrown kind, const std::string& what, const PhysicsEngine& engine) {
+    out.u8(static_cast<std::uint8_t>(Frame::Thrown));
+    out.u8(static_cast<std::uint8_t>(kind));
+    out.text(what);
+    out.texts(openHooks(engine));
+}
+
+int serve() {
+    auto held = std::make_unique<PhysicsEngine>();
+    while (true) {
+        const auto frame = receiveFrame(kIn);
+        if (!frame) return 0;  // the checker is done
+        Reader in(*frame);
+        if (in.u8() != static_cast<std::uint8_t>(Frame::Request)) throw ProtocolError("expected a request");
+        const auto call = static_cast<Call>(in.u8());
+        Writer out;
+        try {
+            Writer outputs;
+            answer(call, in, outputs, held);
+            out.u8(static_cast<std::uint8_t>(Frame::Answer));
+            std::string bytes = out.bytes() + outputs.bytes();
+            Writer open;
+            open.texts(openHooks(*held));
+            if (!sendFrame(kOut, bytes + open.bytes())) return 0;
+            continue;
+        } catch (const ProtocolError&) {
+            throw;
+        } catch (const SimulationError& e) {
+            thrown(out, Thrown::Simulation, e.what(), *held);
+        } catch (const std::invalid_argument& e) {
+            thrown(out, Thrown::InvalidArgument, e.what(), *held);
+        } catch (const std::out_of_range& e) {
+            thrown(out, Thrown::OutOfRange, e.what(), *held);
+        } catch (const std::bad_alloc& e) {
+            thrown(out, Thrown::BadAlloc, e.what(), *held);
+        } catch (const std::exception& e) {
+            thrown(out, Thrown::Other, e.what(), *held);
+        }
+        if (!sendFrame(kOut, out.bytes())) return 0;
+    }
+}
+
+}  // namespace
+}  // namespace gpl::grading
+
+int main(int argc, char** argv) {
+    if (argc != 2 || std::strcmp(argv[1], "--serve") != 0) {
+        std::cerr << "usage: " << argv[0] << " --serve (the grader starts it; requests on fd 3, answers on fd 4)\n";
+        return 2;
+    }
+    if (fcntl(3, F_GETFD) < 0 || fcntl(4, F_GETFD) < 0) {
+        std::cerr << argv[0] << ": file descriptors 3 and 4 must be the checker's pipes\n";
+        return 2;
+    }
+    signal(SIGPIPE, SIG_IGN);
+    gpl::grading::installTraceHandlers();
+    try {
+        return gpl::grading::serve();
+    } catch (const gpl::grading::ProtocolError& e) {
+        std::cerr << argv[0] << ": " << e.what() << '\n';
+        return 3;
+    }
+}
