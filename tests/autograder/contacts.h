@@ -56,11 +56,15 @@ inline std::string str(const std::optional<Contact>& c) {
     return out.str();
 }
 
-/// Uniform numbers from std::mt19937, whose output the standard fixes: the same configurations on
-/// every machine (std::uniform_real_distribution is left to the library).
+/// The run's part of every seed: drawn anew for each run of the checker (the trusted side), so that
+/// no submission can know its inputs beforehand; GPL_CHECKER_SEED=N repeats a run (graded.cpp).
+std::uint32_t runSeed();
+
+/// Uniform numbers from std::mt19937, whose output the standard fixes: with the same seeds, the same
+/// configurations on every machine (std::uniform_real_distribution is left to the library).
 class Random {
 public:
-    explicit Random(std::uint32_t seed) : engine_(seed) {}
+    explicit Random(std::uint32_t seed) : engine_(seed ^ runSeed()) {}
     double uniform(double lo, double hi) { return lo + (hi - lo) * (static_cast<double>(engine_()) / 4294967296.0); }
     Vec3 inBox(double half) { return {uniform(-half, half), uniform(-half, half), uniform(-half, half)}; }
     /// A unit vector, uniform over the sphere.

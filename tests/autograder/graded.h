@@ -1,6 +1,8 @@
-// Graded tests: a GoogleTest test with points and a hint a student can act on. The grader
-// (tools/grade.py) reads them from `autograder --grader-manifest` and runs each test in its own
-// process.
+// Graded tests: a GoogleTest test with points and a hint a student can act on. They are compiled
+// into the checker, gpl-checker, which links no student code: a hook a test calls is a request to
+// the submission's engine in the grader's sandbox (tests/grading/submission.h), so what a test
+// expects, and whether it passed, is decided here alone. The grader (tools/grade.py) reads the
+// tests from `gpl-checker --grader-manifest` and runs each in its own pair of processes.
 //
 //   GRADED_TEST(Worksheet1, Name, points, "hint" [, option...]) { ... }
 //

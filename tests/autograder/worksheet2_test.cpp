@@ -192,7 +192,8 @@ GRADED_TEST(Worksheet2, PositionVerletTimeReversible, 2,
 
 GRADED_TEST(Worksheet2, PositionVerletEnergyBounded, 3,
             "With h omega < 2 Verlet's energy error oscillates but never drifts, even over 10^5 steps: use "
-            "x_{n-1} from the previous step (not x_0) and a_n at x_n.") {
+            "x_{n-1} from the previous step (not x_0) and a_n at x_n.",
+            grading::timeLimit(20)) {
     expectEnergyBounded(positionVerlet);
 }
 
@@ -244,7 +245,8 @@ GRADED_TEST(Worksheet2, VelocityVerletTimeReversible, 2,
 
 GRADED_TEST(Worksheet2, VelocityVerletEnergyBounded, 3,
             "With h omega < 2 velocity Verlet's energy error stays bounded over 10^5 steps: the position update "
-            "needs the h^2/2 a_n term and the velocity the averaged acceleration.") {
+            "needs the h^2/2 a_n term and the velocity the averaged acceleration.",
+            grading::timeLimit(20)) {
     expectEnergyBounded(velocityVerlet);
 }
 
