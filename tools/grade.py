@@ -1,32 +1,34 @@
 #!/usr/bin/env python3
-"""The grader: runs the graded GoogleTest tests of an autograder binary, one process per test, and
-reports points, hints, Gradescope results.json and JUnit XML.
+"""The grader: for each graded test, the trusted checker (gpl-checker: the graded tests, no student
+code) asks the engine of the code graded (gpl-hooks-VARIANT, in the sandbox) for every hook over
+two pipes; the checker's report decides. Points, hints, Gradescope results.json and JUnit XML.
 
   grade.py grade --build-dir DIR [--worksheet N] [--solutions | --submission SUBDIR]
                  [--json FILE] [--junit FILE] [--timeout S] [--memory MIB] [--hidden-visibility V]
-      builds the variant (the student's assignments/ by default), grades it, prints the table.
+      grades the student's assignments/ (or the reference, or a submission folder): the hook files
+      compiled in the sandbox, the checker and the engine's server from the lab's build.
   grade.py grade --build-dir DIR --batch DIR --out FILE.csv [--jobs N] [--worksheet N] [--timeout S]
-                [--memory MIB]
-                [--similarity]
+                [--memory MIB] [--similarity]
       grades every submission folder in DIR, in parallel, and writes a gradebook (one row per
       submission, one column per test, the total) and FILE-results/NAME/results.json for each.
-  grade.py report --binary AUTOGRADER [--worksheet N] [--json FILE] [--junit FILE]
-      grades an autograder binary that is already built.
+  grade.py report --checker CHECKER --hooks ENGINE [--worksheet N] [--json FILE] [--junit FILE]
+      grades an engine that is already built.
   grade.py prebuild --build-dir DIR
-      builds the engine and the tests for grading submissions (Gradescope's setup.sh runs it).
+      builds the checker, the launcher and what a submission's engine links (Gradescope's setup.sh).
   grade.py failure --json FILE --message TEXT
       writes a results.json with zero points that says why the grading could not run.
-  grade.py selfcheck --binary AUTOGRADER (--expect full | --expect zero | --mutant NAME) [--worksheet N]
+  grade.py selfcheck --checker CHECKER --hooks ENGINE (--expect full | --expect zero | --mutant NAME)
+                     [--worksheet N]
       the grader's own checks: the solutions score full marks, the stubs zero, and each seeded
       mistake (tests/mutants/*.json) loses points in the test named for it, which fails on its own
       (graded on that test's worksheet unless --worksheet says otherwise).
 
 Exit status: 0 full marks, 1 points lost, 2 the grading itself could not run (a one-line error).
 
-Each test runs in its own process, in a fresh folder, with a time limit (its own, declared with the
-test, or --timeout) and an output cap: a crash, a timeout or endless output costs that test only.
-A test whose prerequisite fails is "not run". Files of the lab that a test writes into are put
-back and the test fails. A submission contributes only its hook files.
+Each test runs in its own pair of processes, with a time limit (its own, declared with the test,
+or --timeout) and an output cap: a crash, a timeout or endless output costs that test only. The
+test list, points and limits come from the checker, never from the code graded. A test whose
+prerequisite fails is "not run". A submission contributes only its hook files.
 """
 import argparse
 import concurrent.futures
@@ -35,6 +37,7 @@ import json
 import os
 import pathlib
 import shutil
+import subprocess
 import sys
 import threading
 import time
@@ -45,15 +48,15 @@ import hooks  # noqa: E402
 from hooks import OneLineParser  # noqa: E402
 import similarity  # noqa: E402
 from grading import GradeError  # noqa: E402
-from grading.building import (Submission, build_submissions, cmake_build, configure_submission_build,  # noqa: E402
-                              first_errors, grade_submission, reference_tests,
-                              stage_submissions)
+from grading.building import (Submission, TrustedBuild, build_submissions, build_trusted, cmake_build,  # noqa: E402
+                              first_errors, grade_submission, reference_tests, stage_submissions)
+from grading.cgroups import Cgroups  # noqa: E402
 from grading.guard import Guard  # noqa: E402
 from grading.reports import (Progress, check_writable, gradebook, gradescope, report, table,  # noqa: E402
                              write_atomically)
 from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of  # noqa: E402
-from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, failed_results, grade_binary,  # noqa: E402
-                             manifest, run_one, select, with_prerequisites)
+from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, Programs, failed_results,  # noqa: E402
+                             grade_binary, run_one, select, with_prerequisites)
 
 # ---- Commands -------------------------------------------------------------------------------------
 
@@ -78,35 +81,34 @@ def cmd_grade(args):
     build_dir = pathlib.Path(args.build_dir).resolve()
     start = time.monotonic()
     guard = unless_sandboxed(lambda: Guard(ROOT, build_dir / "quarantine", skip=[p for p in (args.json, args.junit) if p]))
-    if args.submission:
-        label = f"submission {args.submission}"
-        sub_build = submission_build_dir(build_dir)
-        sub = Submission(pathlib.Path(args.submission).name, args.submission)
-        stage_submissions([sub], sub_build)
-        if sub.error:
-            raise GradeError(sub.error)
-        if sub.notes():
-            print(sub.notes())
-        build_submissions([sub], sub_build, None)
-        if sub.build_errors is not None:
-            print("the code does not compile; every test scores zero. First errors:\n" + sub.build_errors)
-        grade_submission(sub, args, sub_build, guard, lambda: reference_tests(sub_build, args.worksheet, None))
-        return report(sub.results, label, args, time.monotonic() - start, sub.notes(), root=ROOT)
-    if args.solutions and not (ROOT / "solutions").is_dir():
-        raise GradeError("this is a student release: it has no solutions to grade")
-    variant = "solutions" if args.solutions else "assignments"
-    ok, log = cmake_build(build_dir, [f"autograder_{variant}"])
-    if not ok:
-        if args.solutions:
+    if args.solutions:
+        if not (ROOT / "solutions").is_dir():
+            raise GradeError("this is a student release: it has no solutions to grade")
+        ok, log = cmake_build(build_dir, ["gpl-checker", "gpl-launch", "gpl-hooks-solutions"])
+        if not ok:
             raise GradeError("the reference solutions do not build: " + first_errors(log, 1))
-        tests = reference_tests(build_dir, args.worksheet, variant)
-        print("the code does not compile; every test scores zero. First errors:\n" + first_errors(log))
-        results = failed_results(tests, "the code does not compile:\n" + first_errors(log))
-        return report(results, variant, args, time.monotonic() - start)
-    results = grade_binary(build_dir / "tests" / f"autograder_{variant}", args.worksheet, args.defaults, guard)
-    return report(results, variant, args, time.monotonic() - start, root=ROOT if variant == "assignments" else None)
-
-
+        programs = Programs(build_dir / "tests" / "gpl-checker", build_dir / "tests" / "gpl-hooks-solutions")
+        results = grade_binary(programs, args.worksheet, args.defaults, guard)
+        return report(results, "solutions", args, time.monotonic() - start)
+    # The student's assignments/ and a submission folder are graded alike: their hook files compiled
+    # in the sandbox, the checker and the engine's server from the lab's own build.
+    build_trusted(build_dir)
+    folder = args.submission or ROOT / "assignments"
+    label = f"submission {args.submission}" if args.submission else "assignments"
+    sub_build = submission_build_dir(build_dir)
+    sub = Submission(pathlib.Path(folder).name, folder)
+    stage_submissions([sub], sub_build)
+    if sub.error:
+        raise GradeError(sub.error)
+    if sub.notes() and args.submission:
+        print(sub.notes())
+    build_submissions([sub], sub_build, None, TrustedBuild(build_dir))
+    checker = build_dir / "tests" / "gpl-checker"
+    if sub.build_errors is not None:
+        print("the code does not compile; every test scores zero. First errors:\n" + sub.build_errors)
+    grade_submission(sub, args, checker, guard, lambda: reference_tests(checker, args.worksheet))
+    return report(sub.results, label, args, time.monotonic() - start, sub.notes() if args.submission else "",
+                  root=None if args.submission else ROOT)
 
 
 def cmd_batch(args):
@@ -141,23 +143,22 @@ def cmd_batch(args):
     build_dir = pathlib.Path(args.build_dir).resolve()
     sub_build = submission_build_dir(build_dir)
     start = time.monotonic()
+    build_trusted(build_dir)
+    checker = build_dir / "tests" / "gpl-checker"
+    tests = reference_tests(checker, args.worksheet)  # the list of every submission: the checker's
 
     subs = [Submission(p.name, p) for p in folders]
     stage_submissions(subs, sub_build)
     distinct = len({s.variant for s in subs if s.variant})
     print(f"grading {len(subs)} submissions ({distinct} distinct) with {jobs} jobs", file=sys.stderr)
     print(Sandbox.here().describe(), file=sys.stderr)
-    build_submissions(subs, sub_build, os.cpu_count())  # compiling uses every core whatever --jobs says
-    reference_cache, reference_lock = [], threading.Lock()
+    if Cgroups.here().describe():
+        print(Cgroups.here().describe(), file=sys.stderr)
+    # Compiling uses every core whatever --jobs says.
+    build_submissions(subs, sub_build, os.cpu_count(), TrustedBuild(build_dir))
 
     def reference():
-        with reference_lock:
-            if not reference_cache:
-                reference_cache.append(reference_tests(sub_build, args.worksheet, None))
-        return reference_cache[0]
-
-    if any(s.error or s.build_errors is not None for s in subs):
-        reference()
+        return tests
     guard = unless_sandboxed(lambda: Guard(ROOT, build_dir / "quarantine", skip=[out, results_dir, batch]))
     results_dir.mkdir(exist_ok=True)
     progress = Progress(len(subs))
@@ -175,13 +176,17 @@ def cmd_batch(args):
         (results_dir / sub.name).mkdir(exist_ok=True)
         write_atomically(results_dir / sub.name / "results.json",
                          json.dumps(gradescope(sub.results, sub.seconds, args.hidden_visibility,
-                                               "\n".join(n for n in (sub.notes(), Sandbox.here().describe()) if n)),
+                                               "\n".join(n for n in (sub.notes(), Sandbox.here().describe(),
+                                                                      Cgroups.here().describe()) if n)),
                                     indent=2) + "\n")
         progress.finished(sub)
 
     def work(sub):
         progress.started()
-        grade_submission(sub, args, sub_build, guard, reference)
+        try:
+            grade_submission(sub, args, checker, guard, reference)
+        except GradeError as e:  # whatever goes wrong with one submission, the others are graded
+            sub.results = failed_results(tests, f"could not be graded: {e}")
         write(sub)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
@@ -207,15 +212,22 @@ def cmd_batch(args):
 
 
 def cmd_prebuild(args):
-    """Builds what grading a submission needs besides the submission: the engine, the tests and the
-    untouched stubs' autograder (it lists the tests when a submission does not compile)."""
-    sub_build = submission_build_dir(pathlib.Path(args.build_dir).resolve())
-    (sub_build / "submissions").mkdir(parents=True, exist_ok=True)
-    configure_submission_build(sub_build)
-    ok, log = cmake_build(sub_build, ["autograder_assignments"])
-    if not ok:
-        raise GradeError("the lab does not build: " + first_errors(log, 3))
-    print(f"built the engine and the tests in {sub_build}")
+    """Builds what grading a submission needs besides the submission: the checker, the launcher, the
+    engine's server and libraries and the hook files' precompiled header."""
+    build_dir = pathlib.Path(args.build_dir).resolve()
+    if not (build_dir / "CMakeCache.txt").is_file():
+        # What grading needs only: the engine, the checker, the launcher (no viewer, studies or
+        # seeded mistakes), with the compile commands the submissions' hook files are compiled by.
+        proc = subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build_dir), "-G", "Ninja",
+                               "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
+                               "-DGPL_CORE_TESTS_ONLY=ON", "-DGPL_BUILD_VIEWER=OFF"],
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        if proc.returncode != 0:
+            raise GradeError("could not configure the build: " + first_errors(proc.stdout, 3))
+    build_trusted(build_dir)
+    TrustedBuild(build_dir)  # the flags and the link command are readable
+    (submission_build_dir(build_dir) / "submissions").mkdir(parents=True, exist_ok=True)
+    print(f"built the checker, the launcher and the engine's parts in {build_dir}")
     return 0
 
 
@@ -231,18 +243,19 @@ def cmd_report(args):
     check_writable(args.json)
     check_writable(args.junit)
     start = time.monotonic()
-    results = grade_binary(args.binary, args.worksheet, args.defaults)
-    return report(results, pathlib.Path(args.binary).name, args, time.monotonic() - start)
+    results = grade_binary(Programs(args.checker, args.hooks), args.worksheet, args.defaults)
+    return report(results, pathlib.Path(args.hooks).name, args, time.monotonic() - start)
 
 
 def cmd_selfcheck(args):
+    programs = Programs(args.checker, args.hooks)
     spec = None
     if args.mutant:
         specs = {m["name"]: m for m in hooks.load_mutants()}
         if args.mutant not in specs:
             raise GradeError(f"unknown seeded mistake '{args.mutant}'; known: {', '.join(sorted(specs))}")
         spec = specs[args.mutant]
-        named = next((t for t in manifest(args.binary) if t["name"] == spec["must_fail"]), None)
+        named = next((t for t in programs.manifest() if t["name"] == spec["must_fail"]), None)
         if named is None:
             raise GradeError(f"seeded mistake '{args.mutant}' names the test {spec['must_fail']}, which does not exist")
         if args.worksheet is None:
@@ -251,13 +264,13 @@ def cmd_selfcheck(args):
     # what decides whether the named test loses its points; the others would only take time.
     only = None
     if spec is not None:
-        only = with_prerequisites(select(manifest(args.binary), args.worksheet), spec["must_fail"])
-    results = grade_binary(args.binary, args.worksheet, args.defaults, only=only)
+        only = with_prerequisites(select(programs.manifest(), args.worksheet), spec["must_fail"])
+    results = grade_binary(programs, args.worksheet, args.defaults, only=only)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
     flagged = [r["name"] for r in results if r["output"].startswith(SANITIZER_MARK)]
-    print(table(results, f"self-check of {pathlib.Path(args.binary).name}"))
+    print(table(results, f"self-check of {pathlib.Path(args.hooks).name}"))
     if flagged and args.expect in ("full", "zero"):
         print(f"WRONG: a sanitizer reported an error in {', '.join(flagged)}")
         return 1
@@ -277,8 +290,7 @@ def cmd_selfcheck(args):
         # The named test must lose its points in the graded run (failed or not run) AND fail when run
         # on its own: a prerequisite catching the mistake must not hide a test that cannot.
         if named.get("not_run"):
-            alone, _, _ = run_one(pathlib.Path(args.binary).resolve(), spec["must_fail"],
-                                  limits_of(named, args.defaults))
+            alone, _, _ = run_one(programs, spec["must_fail"], limits_of(named, args.defaults))
         else:
             alone = named["passed"]  # it ran on its own already, in its own process
         ok = not named["passed"] and named["score"] == 0 and total < maximum and not alone
@@ -324,13 +336,15 @@ def main(argv):
 
     r = sub.add_parser("report")
     common(r)
-    r.add_argument("--binary", required=True)
+    r.add_argument("--checker", required=True, help="the trusted checker (gpl-checker)")
+    r.add_argument("--hooks", required=True, help="the engine graded (gpl-hooks-VARIANT)")
     r.add_argument("--json", metavar="FILE")
     r.add_argument("--junit", metavar="FILE")
 
     s = sub.add_parser("selfcheck")
     common(s)
-    s.add_argument("--binary", required=True)
+    s.add_argument("--checker", required=True, help="the trusted checker (gpl-checker)")
+    s.add_argument("--hooks", required=True, help="the engine graded (gpl-hooks-VARIANT)")
     exp = s.add_mutually_exclusive_group(required=True)
     exp.add_argument("--expect", choices=["full", "zero"])
     exp.add_argument("--mutant", metavar="NAME")

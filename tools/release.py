@@ -42,10 +42,11 @@ HIDDEN_OPTION = "grading::hidden()"
 # minus what EXCLUDED names). Anything new must be added here to reach students.
 RELEASED = ["lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".gitignore",
             "cmake", "framework", "bench", "worksheets", "tests/CMakeLists.txt", "tests/framework", "tests/autograder",
+            "tests/grading",
             "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
 # The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
 GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
-              "tests/framework", "tests/autograder", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
+              "tests/framework", "tests/autograder", "tests/grading", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
 EXCLUDED = {"worksheets/instructor", "__pycache__"}
 # The release's README.md: written for students, from this file (the instructors' README stays here).
 STUDENT_README = "docs/student-README.md"
@@ -213,8 +214,9 @@ def _executable(path, text):
 
 SETUP = """#!/usr/bin/env bash
 # Gradescope runs this once, as root, when it builds the autograder image: it installs the Debian
-# packages the lab needs (those missing) and builds the engine and the tests, so that grading a
-# submission compiles only the submission's hook files.
+# packages the lab needs (those missing) and builds the checker (the graded tests), the launcher and
+# the engine's parts, so that grading a submission compiles only the submission's hook files (in
+# the sandbox) and links its engine.
 set -euo pipefail
 cd "$(dirname "${{BASH_SOURCE[0]}}")"
 packages=({packages})

@@ -1,7 +1,7 @@
 """A batch of 50 submissions made from the solutions, the untouched stubs, a half-done submission and
 seeded mistakes of three worksheets, graded with ./lab grade --batch. Checks: the gradebook
-matches each submission's results.json; each submission scores what the autograder built from the
-same code by the main build (an independent oracle) scores; identical submissions share one build
+matches each submission's results.json; each submission scores what the engine built from the
+same code by the main build (an independent oracle) scores with the checker; identical submissions share one build
 and one run."""
 import contextlib
 import csv
@@ -25,11 +25,16 @@ import hooks  # noqa: E402
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 
 
-def autograder(variant):
-    folder = os.environ.get("GPL_AUTOGRADER_DIR")
+def tests_dir():
+    folder = os.environ.get("GPL_TESTS_DIR")
     if not folder:
-        raise RuntimeError("set GPL_AUTOGRADER_DIR (CTest does)")
-    return pathlib.Path(folder) / f"autograder_{variant}"
+        raise RuntimeError("set GPL_TESTS_DIR (CTest does)")
+    return pathlib.Path(folder)
+
+
+def engine(variant):
+    """The main build's checker with the engine of a variant (solutions, assignments, mutant_NAME)."""
+    return running.Programs(tests_dir() / "gpl-checker", tests_dir() / f"gpl-hooks-{variant}", tests_dir() / "gpl-launch")
 
 
 class Batch(unittest.TestCase):
@@ -100,7 +105,7 @@ class Batch(unittest.TestCase):
     def test_gradebook_has_one_row_per_submission_and_a_column_per_test(self):
         rows = self.rows()
         self.assertEqual([r["submission"] for r in rows], sorted(self.variant_of))
-        tests = [t["name"] for t in running.manifest(autograder("solutions"))]
+        tests = [t["name"] for t in running.checker_manifest(tests_dir() / "gpl-checker")]
         with open(self.gradebook, newline="") as f:
             header = next(csv.reader(f))
         self.assertEqual(header, ["submission", *tests, "total", "max_score", "note"])
@@ -125,7 +130,7 @@ class Batch(unittest.TestCase):
                 continue
             if variant not in oracle:
                 oracle[variant] = {r["name"]: (r["score"], r["passed"], r.get("not_run", False))
-                                   for r in running.grade_binary(autograder(variant))}
+                                   for r in running.grade_binary(engine(variant))}
             with self.subTest(submission=row["submission"], variant=variant):
                 results = {t["name"]: t for t in self.results(row["submission"])["tests"]}
                 for name, (score, passed, not_run) in oracle[variant].items():

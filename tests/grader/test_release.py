@@ -47,8 +47,7 @@ def solution_code():
 
 
 def hidden_tests():
-    binary = pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions"
-    hidden = [t for t in running.manifest(binary) if t["hidden"]]
+    hidden = [t for t in running.checker_manifest(pathlib.Path(os.environ["GPL_TESTS_DIR"]) / "gpl-checker") if t["hidden"]]
     assert hidden, "there is at least one hidden test"
     return hidden
 
@@ -133,7 +132,8 @@ class StudentRelease(unittest.TestCase):
     def test_written(self):
         self.assertEqual(self.made.returncode, 0, self.made.stdout + self.made.stderr)
         for path in ("lab", "README.md", "framework/src/engine.cpp", "tests/autograder/worksheet1_test.cpp",
-                     "worksheets/01-time-stepping.md", "tools/grade.py", "cmake/hook_files.txt"):
+                     "tests/grading/launch.cpp", "worksheets/01-time-stepping.md", "tools/grade.py",
+                     "cmake/hook_files.txt"):
             self.assertTrue((self.release / path).is_file(), path)
         self.assertEqual([p.name for p in self.tmp.iterdir() if p.name.startswith(".")], [], "no leftovers beside it")
 
@@ -179,7 +179,7 @@ class StudentRelease(unittest.TestCase):
         self.assertEqual(graded.returncode, 1, graded.stdout + graded.stderr)
         data = json.loads(results.read_text())
         self.assertEqual(data["score"], 0)
-        public = [t for t in running.manifest(pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")
+        public = [t for t in running.checker_manifest(pathlib.Path(os.environ["GPL_TESTS_DIR"]) / "gpl-checker")
                   if not t["hidden"]]
         self.assertEqual([t["name"] for t in data["tests"]], [t["name"] for t in public])
         self.assertEqual(data["max_score"], sum(t["points"] for t in public))
@@ -190,6 +190,27 @@ class StudentRelease(unittest.TestCase):
             proc = run([self.release / "lab", *cmd], self.release)
             self.assertEqual(proc.returncode, 2, proc.stdout + proc.stderr)
             self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+
+    def test_a_compile_error_scores_zero_with_the_errors(self):
+        # The release has no solutions: the list of tests comes from its own checker, the errors
+        # from the compiler, with the student's own file name.
+        hook = self.release / "assignments" / "integrator.cpp"
+        text = hook.read_text()
+        results = self.tmp / "broken.json"
+        try:
+            hook.write_text(text + "\nthis is not C++\n")
+            graded = run([self.release / "lab", "grade", "--worksheet", "1", "--json", results], self.release)
+        finally:
+            hook.write_text(text)
+        self.assertEqual(graded.returncode, 1, graded.stdout + graded.stderr)
+        self.assertIn("the code does not compile; every test scores zero. First errors:", graded.stdout)
+        self.assertIn(f"{hook}:", graded.stdout)
+        data = json.loads(results.read_text())
+        self.assertEqual(data["score"], 0)
+        public = [t["name"] for t in running.checker_manifest(pathlib.Path(os.environ["GPL_TESTS_DIR"]) / "gpl-checker")
+                  if not t["hidden"] and t["worksheet"] == 1]
+        self.assertEqual([t["name"] for t in data["tests"]], public)
+        self.assertTrue(all("does not compile" in t["output"] for t in data["tests"]))
 
     def test_readme_is_for_students(self):
         text = (self.release / "README.md").read_text()
@@ -359,8 +380,8 @@ class GradescopeAutograder(unittest.TestCase):
         self.assertEqual({t["name"] for t in data["tests"] if t["visibility"] == "after_published"}, hidden)
         self.assertTrue(all(t["visibility"] == "visible" for t in data["tests"] if t["name"] not in hidden))
         self.assertEqual(data["stdout_visibility"], "hidden", "the printout names hidden tests")
-        self.assertEqual(data["max_score"], sum(t["points"] for t in running.manifest(
-            pathlib.Path(os.environ["GPL_AUTOGRADER_DIR"]) / "autograder_solutions")))
+        self.assertEqual(data["max_score"], sum(t["points"] for t in running.checker_manifest(
+            pathlib.Path(os.environ["GPL_TESTS_DIR"]) / "gpl-checker")))
         # The bundle grades with the lab's own grader, so in the same sandbox with the same limits.
         self.assertIn("sandbox: each test ran in bubblewrap", data["output"])
 

@@ -1,5 +1,7 @@
-"""Tests of the grader's tools (tools/grade.py, tools/hooks.py) on their own and on the real
-autograder binaries, whose paths CTest passes in GPL_AUTOGRADER_SOLUTIONS / _ASSIGNMENTS."""
+"""Tests of the grader's tools (tools/grade.py, tools/hooks.py) on their own, on small fake programs
+(fakes.py: a probe of the launcher's filter, a fake engine and checker) and on the real checker and
+engines, whose paths CTest passes in GPL_CHECKER, GPL_LAUNCH, GPL_HOOKS_SOLUTIONS and
+GPL_HOOKS_ASSIGNMENTS."""
 import contextlib
 import io
 import json
@@ -17,8 +19,10 @@ import xml.etree.ElementTree as ET
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
+import fakes  # noqa: E402
 import grade  # noqa: E402
 from grading import building  # noqa: E402
+from grading import cgroups  # noqa: E402
 from grading.guard import Guard  # noqa: E402
 from grading import reports  # noqa: E402
 from grading import running  # noqa: E402
@@ -29,11 +33,27 @@ import similarity  # noqa: E402
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 
 
-def binary(variant):
-    path = os.environ.get(f"GPL_AUTOGRADER_{variant.upper()}")
+def env_path(name):
+    path = os.environ.get(name)
     if not path:
-        raise RuntimeError(f"set GPL_AUTOGRADER_{variant.upper()} (CTest does)")
+        raise RuntimeError(f"set {name} (CTest does)")
     return path
+
+
+def programs(variant):
+    """The real checker with the engine of solutions/ or assignments/."""
+    return running.Programs(env_path("GPL_CHECKER"), env_path(f"GPL_HOOKS_{variant.upper()}"), env_path("GPL_LAUNCH"))
+
+
+_FAKES = {}
+
+
+def fake(name):
+    """The fake programs of fakes.py, compiled once per run."""
+    if not _FAKES:
+        folder = tempfile.mkdtemp(prefix="gpl-fakes-")
+        _FAKES.update(fakes.build(folder))
+    return _FAKES[name]
 
 
 class RunLimited(unittest.TestCase):
@@ -52,70 +72,178 @@ class RunLimited(unittest.TestCase):
         self.assertEqual((rc, out.strip(), why), (3, "hello", None))
 
 
-class Limits(unittest.TestCase):
-    """Each limit stops what breaks it and is named for what it is; the sandbox's own command runs
-    small shell and Python programs here, so the kernel's limits are the real ones."""
+class Launcher(unittest.TestCase):
+    """gpl-launch: the filter is in force before the program's first instruction (a static
+    initializer included); every refused call raises SIGSYS with its tag; threads work; no program
+    can be executed after the first; descriptor 1000 is out of reach."""
 
-    def limited(self, program, limits, timeout=None):
+    TAGS = {"process": 1, "network": 2, "namespace": 3, "memory": 4, "kernel": 5, "signal": 6, "limit": 7}
+    REFUSED = {"fork": "process", "vfork": "process", "clone": "process", "clone_vm": "process",
+               "clone_newuser": "namespace", "execve": "process", "execveat_abs": "process",
+               "execveat_null": "process", "raise_nofile": "limit", "prlimit_nofile": "limit",
+               "prlimit_other": "signal", "socket": "network", "unix": "network", "socketpair": "network",
+               "unshare": "namespace", "setns": "namespace", "mount": "namespace", "chroot": "namespace",
+               "memfd": "memory", "shmget": "memory", "io_uring": "kernel", "bpf": "kernel", "perf": "kernel",
+               "userfaultfd": "kernel", "ptrace": "process", "vm_read": "process", "keyctl": "kernel",
+               "personality": "kernel", "kill_other": "signal", "kill_group": "signal",
+               "tgkill_other": "signal", "pidfd_other": "signal"}
+
+    def launch(self, *args, env=None, options=()):
+        return subprocess.run([env_path("GPL_LAUNCH"), *options, "--", str(fake("probe")), *args],
+                              capture_output=True, text=True, timeout=20, env={**os.environ, **(env or {})})
+
+    def test_every_forbidden_call_is_refused_with_its_tag(self):
+        for what, tag in self.REFUSED.items():
+            with self.subTest(call=what):
+                proc = self.launch(what)
+                self.assertEqual((proc.returncode, proc.stdout.strip()), (99, f"refused {self.TAGS[tag]}"), proc.stderr)
+
+    def test_threads_signals_to_itself_and_limits_it_only_reads_work(self):
+        self.assertEqual(self.launch("threads").stdout.strip(), "threads ok")
+        self.assertEqual(self.launch("kill_self").stdout.strip(), "kill self 0")
+        self.assertEqual(self.launch("raise").stdout.strip(), "raise 0")
+        self.assertEqual(self.launch("clone3_thread").stdout.strip(), "clone3 -1 Function not implemented")
+        self.assertIn("nofile 256 256", self.launch("getrlimit").stdout)
+
+    def test_the_filter_is_there_before_main(self):
+        proc = self.launch("hello", env={"PROBE_EARLY": "fork"})
+        self.assertEqual(proc.stdout.strip(), "refused 1", "a static initializer's fork is refused")
+
+    def test_descriptor_1000_is_closed_and_out_of_reach(self):
+        self.assertRegex(self.launch("hello").stdout, r"fds1000=-1")
+        self.assertEqual(self.launch("dup1000").stdout.strip(), "dup2 -> -1 Bad file descriptor")
+
+    def test_the_leak_checkers_clone_only_in_a_sanitizer_build(self):
+        self.assertRegex(self.launch("clone_vm", options=["--sanitizer"]).stdout, r"^allowed: clone_vm")
+        self.assertRegex(self.launch("fork", options=["--sanitizer"]).stdout, r"^refused 1")
+
+    def test_kernel_limits(self):
         with tempfile.TemporaryDirectory() as tmp:
-            cmd, env, cwd = sandbox.Sandbox.here().command(program[0], program[1:], tmp, limits, {})
+            with open(pathlib.Path(tmp) / "f", "wb") as f:
+                proc = subprocess.run([env_path("GPL_LAUNCH"), "--file-bytes", "1000000", "--", "/usr/bin/head",
+                                       "-c", "3000000", "/dev/zero"], stdout=f, timeout=20)
+            self.assertEqual(proc.returncode, -signal.SIGXFSZ)
+            loop = "while True: pass"
             start = time.monotonic()
-            rc, out, why = running.run_limited(cmd, timeout or limits.seconds, cwd=cwd, env=env, watch=running._watch(limits))
-            if sandbox.Sandbox.here().isolated and rc > 128:
-                rc = 128 - rc
-            return rc, out, why, time.monotonic() - start
+            proc = subprocess.run([env_path("GPL_LAUNCH"), "--cpu", "1", "--", "/usr/bin/python3", "-c", loop],
+                                  capture_output=True, timeout=20)
+            self.assertEqual(proc.returncode, -signal.SIGXCPU)
+            self.assertLess(time.monotonic() - start, 5)
 
-    def test_cpu_time_in_threads_cannot_outlast_the_limit(self):
-        # The wall clock's limit is out of reach (20 s): the kernel's CPU limit (1 + 1 s) ends the loop.
-        rc, _, why, seconds = self.limited(["/bin/sh", "-c", "while :; do :; done"], sandbox.default_limits(1),
-                                           timeout=20)
-        self.assertIsNone(why)
-        self.assertEqual(rc, -signal.SIGXCPU)
-        self.assertLess(seconds, 10)
+    def test_bad_usage_is_one_line(self):
+        for args in (["--bogus"], ["--cpu", "x", "--", "/bin/true"], [], ["--", "/nonexistent"]):
+            proc = subprocess.run([env_path("GPL_LAUNCH"), *args], capture_output=True, text=True, timeout=20)
+            self.assertEqual(proc.returncode, 125, args)
+            self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
 
-    def test_a_file_over_the_limit_is_stopped_by_the_kernel(self):
-        limits = sandbox.Limits(5, 100, 8, file_mib=1)
-        rc, _, why, _ = self.limited(["/bin/sh", "-c", "head -c 3000000 /dev/zero > dump.bin"], limits)
-        self.assertEqual(rc, -signal.SIGXFSZ)
-        rc, _, _, _ = self.limited(["/bin/sh", "-c", "head -c 500000 /dev/zero > dump.bin"], limits)
-        self.assertEqual(rc, 0, "half a MiB is within 1 MiB")
 
-    def test_memory_and_threads_are_watched(self):
-        python = "/usr/bin/python3"
-        grow = "import time; a = bytearray(120 << 20); time.sleep(10)"
-        _, _, why, _ = self.limited([python, "-c", grow], sandbox.Limits(20, 40, 8, 64))
-        self.assertEqual(why, "memory")
-        _, _, why, _ = self.limited([python, "-c", grow], sandbox.Limits(2, 400, 8, 64))
-        self.assertEqual(why, "timeout", "120 MiB is within 400 MiB")
-        spawn = "import threading, time\nfor _ in range(20): threading.Thread(target=time.sleep, args=(10,)).start()"
-        _, _, why, _ = self.limited([python, "-c", spawn], sandbox.Limits(20, 400, 8, 64))
-        self.assertEqual(why, "threads")
+class Pairs(unittest.TestCase):
+    """run_one on the fake checker and engine, in the sandbox (and its fallbacks): each way an engine
+    can end is named, with the hook the checker had in flight; no process outlives its test."""
+
+    LIMITS = sandbox.Limits(2, 100, 8, 1)
+
+    def run_fake(self, word, limits=None):
+        p = running.Programs(fake("checker"), fake("engine"), env_path("GPL_LAUNCH"))
+        passed, output, seconds = running.run_one(p, "Fake." + word.capitalize(), limits or self.LIMITS)
+        leftover = subprocess.run(["pgrep", "-f", f"^({fake('engine')}|/grader/engine) --serve"], capture_output=True,
+                                  text=True).stdout.split()
+        self.assertEqual(leftover, [], f"{word}: processes of the engine outlived the test")
+        return passed, output, seconds
+
+    EXPECTED = {
+        "ok": None,
+        "survive": None,  # a thread left behind does not change the verdict, and is gone afterwards
+        "crash": r"^crashed with SIGSEGV in integrator\(\)$",
+        "abort": r"^crashed with SIGABRT \(abort: a failed assert or an uncaught exception\) in integrator\(\)\n"
+                 r"runner: x.cpp:3: .*Assertion",
+        "loop": r"^timed out after 2 s in integrator\(\) \(an endless loop\?\)",
+        "fork": r"^tried to start a process in integrator\(\), which graded code may not do",
+        "socket": r"^tried to open a network connection in integrator\(\)",
+        "memfd": r"^tried to allocate shared memory or a memory file in integrator\(\)",
+        "print": r"^printed more than 1024 KiB of output in integrator\(\) and was stopped; it began:\ndebug: x = 1",
+        "exit": r"^the engine did not answer in integrator\(\): the engine closed its pipe \(it exited with status 3\)",
+        "nonsense": r"^the engine did not answer in integrator\(\): the answer is not one",
+        "memory": r"^used more than 100 MiB of memory in integrator\(\) and was stopped",
+        "threads": r"^ran more than 8 threads at once in integrator\(\) and was stopped",
+        "file": r"^wrote more than 1 MiB to a file in integrator\(\) and was stopped",
+        # The checker's call was the whole step: the engine's stack may say which stage.
+        "stack": r"^overflowed its stack in integrator\(\) \(an endless recursion\?\)",
+        # The checker's call was integrator(): a stack naming another hook changes nothing.
+        "fakestack": r"^crashed with SIGSEGV in integrator\(\)$",
+    }
+
+    def check_all(self, words):
+        for word in words:
+            with self.subTest(engine=word):
+                passed, output, seconds = self.run_fake(word)
+                pattern = self.EXPECTED[word]
+                self.assertEqual(passed, pattern is None, output)
+                if pattern:
+                    self.assertRegex(output, pattern)
+                self.assertLess(seconds, 5)
+
+    def test_in_the_sandbox(self):
+        self.assertTrue(sandbox.Sandbox.here().isolated, sandbox.Sandbox.here().reason)
+        self.check_all(self.EXPECTED)
+
+    def test_without_the_sandbox(self):
+        with mock.patch.object(sandbox.Sandbox, "_probed", sandbox.Sandbox(None, "switched off for a test")):
+            self.check_all(["ok", "crash", "fork", "socket", "memory", "threads", "file", "survive"])
+
+    def test_without_cgroups(self):
+        with mock.patch.object(cgroups.Cgroups, "_probed", cgroups.Cgroups(None, None, None, "off for a test")):
+            self.check_all(["ok", "memory", "threads", "survive"])
+        with mock.patch.object(cgroups.Cgroups, "_probed", cgroups.Cgroups(None, None, None, "off for a test")), \
+                mock.patch.object(sandbox.Sandbox, "_probed", sandbox.Sandbox(None, "switched off for a test")):
+            self.check_all(["ok", "memory", "threads"])
+
+    def test_the_cgroups_here_are_used_and_removed(self):
+        here = cgroups.Cgroups.here()
+        if not here.available:
+            self.skipTest(here.reason)
+        self.assertIsNone(here.describe())
+        before = sorted(p.name for p in here.memory_base.iterdir() if p.name.startswith("gpl-grade-"))
+        self.check_all(["ok", "memory"])
+        after = sorted(p.name for p in here.memory_base.iterdir() if p.name.startswith("gpl-grade-"))
+        self.assertEqual(before, after, "every test's cgroup is removed")
 
     def test_each_breach_is_named(self):
         limits = sandbox.Limits(2, 100, 8, 64)
         with tempfile.TemporaryDirectory() as tmp:
             tmp = pathlib.Path(tmp)
-            trace = tmp / "trace.txt"
-            trace.write_text("grader: forbidden system call: network\n")
+            (tmp / "status.jsonl").write_text('{"event": "ended", "call": "integrator()", "detail": "eof"}\n')
 
-            def verdict(rc, why=None):
-                return running._verdict("S.T", rc, "", why, limits, tmp / "report.json", trace, "autograder")[1]
+            def verdict(rc, why=None, trace=""):
+                pair = running.Pair()
+                pair.runner_rc, pair.why, pair.trace, pair.checker_rc = rc, why, trace, 1
+                return running.verdict("S.T", pair, limits, tmp, isolated=False)[1]
 
-            self.assertRegex(verdict(-signal.SIGSYS), "^tried to open a network connection")
-            trace.write_text("grader: forbidden system call: process\n")
-            self.assertRegex(verdict(-signal.SIGSYS), "^tried to start a process")
-            self.assertRegex(verdict(-signal.SIGXCPU), "^used more than 3 s of CPU time")
+            self.assertRegex(verdict(-signal.SIGSYS, trace="grader: forbidden system call: network\n"),
+                             "^tried to open a network connection in integrator")
+            self.assertRegex(verdict(-signal.SIGSYS, trace="grader: forbidden system call: process\n"),
+                             "^tried to start a process in integrator")
+            self.assertRegex(verdict(-signal.SIGSYS, trace="grader: forbidden system call: namespace\n"),
+                             "^tried to make a namespace")
+            self.assertRegex(verdict(-signal.SIGXCPU), "^used more than 3 s of CPU time in integrator")
             self.assertRegex(verdict(-signal.SIGXFSZ), "^wrote more than 64 MiB to a file")
             self.assertRegex(verdict(-signal.SIGKILL, "memory"), "^used more than 100 MiB of memory")
             self.assertRegex(verdict(-signal.SIGKILL, "threads"), "^ran more than 8 threads at once")
             self.assertRegex(verdict(-signal.SIGKILL, "timeout"), "^timed out after 2 s")
+            self.assertRegex(verdict(-signal.SIGSEGV, trace="grader: stack overflow\n"), "^overflowed its stack in integrator")
+
+    def test_a_hook_that_names_another_in_its_stack_is_not_believed(self):
+        trace = "./gpl-hooks(_ZN3gpl13PhysicsEngine10integratorEv+0x2a)[0x56]\n"
+        self.assertEqual(running.blamed_hook("sphereSphere()", trace, ""), "sphereSphere()")
+        self.assertEqual(running.blamed_hook("simulationTimestep()", trace, ""), "integrator()")
+        self.assertIsNone(running.blamed_hook(None, trace, ""))
 
     def test_tests_declare_their_own_limits(self):
         test = {"time_limit": 20, "memory_limit": 2048, "thread_limit": 0, "file_limit": 0}
         self.assertEqual(sandbox.limits_of(test, sandbox.default_limits(5, 512)),
                          sandbox.Limits(20, 2048, sandbox.DEFAULT_THREADS, sandbox.DEFAULT_FILE_MIB))
         self.assertEqual(sandbox.limits_of({}, 5).memory_mib, sandbox.DEFAULT_MEMORY_MIB)
-        for t in running.manifest(binary("solutions")):
+        for t in programs("solutions").manifest():
             self.assertTrue(all(t[k] >= 0 for k in ("memory_limit", "thread_limit", "file_limit")), t)
 
 
@@ -132,25 +260,29 @@ class Sandboxing(unittest.TestCase):
         self.assertFalse(fallback.isolated)
         self.assertEqual(fallback.describe().count("\n"), 0, "one line")
 
-    def test_the_sandbox_hides_the_lab(self):
+    def probe(self, *args, env=None):
+        with tempfile.TemporaryDirectory() as tmp, mock.patch.dict(os.environ, env or {}):
+            cmd, env, _ = sandbox.Sandbox.here().runner_command(fake("probe"), list(args), tmp, sandbox.default_limits(5),
+                                                                env_path("GPL_LAUNCH"))
+            proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=20)
+        return proc.stdout
+
+    def test_the_sandbox_hides_the_lab_and_the_environment(self):
         if not sandbox.Sandbox.here().isolated:
             self.skipTest("no sandbox here")
-        probe = f"test -e {ROOT}/solutions || test -e {ROOT} || test -e /work || test -e /root || echo hidden"
-        rc, out, _, _ = Limits.limited(self, ["/bin/sh", "-c", probe], sandbox.default_limits(5))
-        self.assertEqual((rc, out.strip()), (0, "hidden"))
+        self.assertEqual(self.probe("exists", str(ROOT), "/work", "/root", "/tmp/gpl-lab", "/grader/trace.txt").split(),
+                         ["False"] * 4 + ["True"])
+        self.assertEqual(self.probe("getenv", "GPL_SECRET", env={"GPL_SECRET": "token"}).strip(), "(none)")
 
     def test_a_sanitizers_suppression_file_travels_without_showing_the_lab(self):
-        # The asan preset names cmake/lsan.supp in LSAN_OPTIONS: the test sees the file, not where it lies.
+        # The asan preset names cmake/lsan.supp in LSAN_OPTIONS: the engine sees the file, not where it lies.
         if not sandbox.Sandbox.here().isolated:
             self.skipTest("no sandbox here")
         supp = ROOT / "cmake" / "lsan.supp"
-        probe = f'test -e {ROOT} || echo hidden; echo "$LSAN_OPTIONS"; cmp -s /grader/lsan_options.supp - && echo same'
-        with mock.patch.dict(os.environ, {"LSAN_OPTIONS": f"suppressions={supp}:print_suppressions=0"}), \
-                tempfile.TemporaryDirectory() as tmp, open(supp, "rb") as f:
-            cmd, env, cwd = sandbox.Sandbox.here().command("/bin/sh", ["-c", probe], tmp, sandbox.default_limits(5), {})
-            proc = subprocess.run(cmd, env=env, cwd=cwd, stdin=f, capture_output=True, text=True, timeout=20)
-        self.assertEqual(proc.stdout.split(),
-                         ["hidden", "suppressions=/grader/lsan_options.supp:print_suppressions=0", "same"], proc.stderr)
+        env = {"LSAN_OPTIONS": f"suppressions={supp}:print_suppressions=0"}
+        self.assertEqual(self.probe("getenv", "LSAN_OPTIONS", env=env).strip(),
+                         "suppressions=/grader/lsan_options.supp:print_suppressions=0")
+        self.assertEqual(self.probe("cat", "/grader/lsan_options.supp", env=env), supp.read_text())
 
     def test_a_batch_never_reserves_more_memory_than_there_is(self):
         budget = sandbox.MemoryBudget(total_mib=2600)  # 80 %: 2080 MiB, room for two tests of 1024
@@ -185,8 +317,8 @@ class NextStep(unittest.TestCase):
 class Reports(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.solutions = running.grade_binary(binary("solutions"), worksheet=1)
-        cls.stubs = running.grade_binary(binary("assignments"), worksheet=1)
+        cls.solutions = running.grade_binary(programs("solutions"), worksheet=1)
+        cls.stubs = running.grade_binary(programs("assignments"), worksheet=1)
 
     def test_every_graded_test_has_points_and_a_hint(self):
         for r in self.solutions:
@@ -236,8 +368,7 @@ class Reports(unittest.TestCase):
         self.assertTrue(all(r["output"].startswith("hooks still not implemented") for r in open_hooks))
 
     def test_unknown_test_name_is_a_failure_not_a_pass(self):
-        passed, output, _ = running.run_one(pathlib.Path(binary("solutions")).resolve(), "Worksheet1.NoSuchTest",
-                                          running.limits_of({}, 10))
+        passed, output, _ = running.run_one(programs("solutions"), "Worksheet1.NoSuchTest", running.limits_of({}, 10))
         self.assertFalse(passed)
         self.assertIn("not found", output)
 
@@ -254,20 +385,20 @@ class Declarations(unittest.TestCase):
             running.in_dependency_order([{"name": "S.A", "depends_on": ["S.X"]}])
 
     def test_manifest_declares_limits_prerequisites_and_hidden_tests(self):
-        tests = {t["name"]: t for t in running.manifest(binary("solutions"))}
+        tests = {t["name"]: t for t in programs("solutions").manifest()}
         self.assertIn("Worksheet1.GravityPointsDown", tests["Worksheet1.EnergyNeverIncreases"]["depends_on"])
         self.assertTrue(any(t["hidden"] for t in tests.values()))
         self.assertTrue(all(t["time_limit"] >= 0 for t in tests.values()))
 
     def test_stubs_report_not_run_with_the_prerequisite(self):
-        stubs = {r["name"]: r for r in running.grade_binary(binary("assignments"), worksheet=1)}
+        stubs = {r["name"]: r for r in running.grade_binary(programs("assignments"), worksheet=1)}
         energy = stubs["Worksheet1.EnergyNeverIncreases"]
         self.assertTrue(energy["not_run"])
         self.assertEqual(energy["score"], 0)
         self.assertTrue(energy["output"].startswith("not run: depends on Worksheet1.GravityPointsDown"))
 
     def test_hidden_tests_visibility_is_configurable(self):
-        results = running.grade_binary(binary("solutions"))
+        results = running.grade_binary(programs("solutions"))
         for visibility in ("hidden", "after_published"):
             data = reports.gradescope(results, 1.0, visibility)
             hidden = [t for t, r in zip(data["tests"], results) if r["hidden"]]
@@ -278,7 +409,8 @@ class Declarations(unittest.TestCase):
     def test_a_seeded_mistake_must_be_caught_by_its_own_test(self):
         # The reference passes the named test: the self-check must say WRONG, not OK.
         with contextlib.redirect_stdout(io.StringIO()) as out:
-            status = grade.main(["selfcheck", "--binary", binary("solutions"), "--mutant", "explicit_euler"])
+            status = grade.main(["selfcheck", "--checker", env_path("GPL_CHECKER"), "--hooks",
+                                 env_path("GPL_HOOKS_SOLUTIONS"), "--mutant", "explicit_euler"])
         self.assertEqual(status, 1)
         self.assertIn("WRONG: 'position updated with the old velocity (explicit Euler)' is not caught", out.getvalue())
         # Graded on the named test's worksheet only.
@@ -389,8 +521,10 @@ class CommandLine(unittest.TestCase):
                               (["grade"], "required: --build-dir"),
                               (["grade", "--build-dir", "b", "--timeout", "0"], "--timeout must be a positive"),
                               (["grade", "--build-dir", "b", "--memory", "-5"], "--memory must be a positive"),
-                              (["report", "--binary", binary("solutions"), "--worksheet", "9"],
-                               "no graded tests for worksheet 9"),
+                              (["report", "--checker", env_path("GPL_CHECKER"), "--hooks",
+                                env_path("GPL_HOOKS_SOLUTIONS"), "--worksheet", "9"], "no graded tests for worksheet 9"),
+                              (["report", "--checker", "/nonexistent", "--hooks", env_path("GPL_HOOKS_SOLUTIONS")],
+                               "checker not found"),
                               (["nonsense"], "invalid choice")]:
             with self.subTest(args=args):
                 proc = self.grade_py(*args)
@@ -418,7 +552,7 @@ class Files(unittest.TestCase):
             sub.mkdir()
             (sub / "integrator.cpp").write_text("// mine\n")
             (sub / "report.pdf").write_text("not code")
-            missing, ignored = building.prepare_submission(sub, tmp / "hooks")
+            missing, ignored, _ = building.prepare_submission(sub, tmp / "hooks")
             self.assertEqual((tmp / "hooks" / "integrator.cpp").read_text(), "// mine\n")
             self.assertIn("simulation_timestep.cpp", missing)
             self.assertEqual(ignored, ["report.pdf"])

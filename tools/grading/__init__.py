@@ -1,5 +1,6 @@
-"""The grader's parts (tools/grade.py holds the commands): running tests in a sandbox with limits
-(running, sandbox, guard), building what is graded (building) and reporting (reports)."""
+"""The grader's parts (tools/grade.py holds the commands): running each test as the trusted checker
+and the submission's engine in the sandbox (running, sandbox, cgroups, guard), building what is
+graded (building: submissions compiled in the sandbox) and reporting (reports)."""
 
 
 class GradeError(Exception):

@@ -10,6 +10,7 @@ import threading
 import xml.etree.ElementTree as ET
 
 from grading import GradeError, sandbox
+from grading.cgroups import Cgroups
 
 
 def status_word(r):
@@ -89,7 +90,7 @@ def write_atomically(path, text):
     except OSError as e:
         raise GradeError(f"cannot write {path}: {e.strerror}") from e
     try:
-        with os.fdopen(fd, "w") as f:
+        with os.fdopen(fd, "w", encoding="utf-8", errors="replace") as f:  # names that are not UTF-8
             f.write(text)
         os.chmod(tmp, 0o644)
         os.replace(tmp, path)
@@ -135,9 +136,10 @@ def report(results, label, args, seconds, notes="", root=None):
                   + (f", worksheet {args.worksheet}" if args.worksheet else "")).splitlines()
     step = next_step(results, args.worksheet, root) if root else None
     # The last line stays the count of passed and failed tests.
-    lines[-1:-1] = [sandbox.Sandbox.here().describe()] + ([step] if step else [])
+    mechanisms = [line for line in (sandbox.Sandbox.here().describe(), Cgroups.here().describe()) if line]
+    lines[-1:-1] = mechanisms + ([step] if step else [])
     print("\n".join(lines))
-    notes = "\n".join(n for n in (notes, sandbox.Sandbox.here().describe()) if n)
+    notes = "\n".join(n for n in (notes, *mechanisms) if n)
     if args.json:
         write_atomically(args.json, json.dumps(gradescope(results, seconds, args.hidden_visibility, notes), indent=2) + "\n")
         print(f"wrote {args.json}")

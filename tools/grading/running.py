@@ -1,4 +1,6 @@
-"""Running graded tests: one process per test, limits, and what a failure means (which hook, which limit)."""
+"""Running graded tests: for each, the trusted checker and the submission's engine in the sandbox,
+wired by pipes; limits; and what a failure means (which hook, which limit)."""
+import fcntl
 import json
 import os
 import pathlib
@@ -12,6 +14,7 @@ import time
 
 import hooks
 from grading import GradeError, sandbox
+from grading.cgroups import Cgroups
 from grading.sandbox import limits_of
 
 DEFAULT_TIMEOUT = 5.0         # s per test; the reference solution needs a few hundredths
@@ -91,21 +94,39 @@ def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None, env=None, warn_signal=No
     return proc.returncode, b"".join(chunks).decode("utf-8", "replace"), why[0]
 
 
-def manifest(binary):
-    """The graded tests of an autograder binary, checked: dependencies name graded tests, no cycles."""
-    binary = pathlib.Path(binary)
-    if not binary.is_file():
-        raise GradeError(f"autograder binary not found: {binary}")
-    rc, out, why = run_limited([str(binary), "--grader-manifest"], timeout=30)
+def checker_manifest(checker):
+    """The graded tests as the trusted checker lists them, checked: every field there and of its
+    type, dependencies naming graded tests, no cycles. Nothing of a submission runs here."""
+    checker = pathlib.Path(checker)
+    if not checker.is_file():
+        raise GradeError(f"checker not found: {checker}")
+    rc, out, why = run_limited([str(checker), "--grader-manifest"], timeout=30)
     if rc != 0 or why:
-        raise GradeError(f"{binary.name} --grader-manifest failed (exit {rc}): {out.strip()[-300:]}")
-    tests = json.loads(out)
+        raise GradeError(f"{checker.name} --grader-manifest failed (exit {rc}): {out.strip()[-300:]}")
+    try:
+        tests = json.loads(out)
+    except json.JSONDecodeError as e:
+        raise GradeError(f"{checker.name} --grader-manifest printed no test list ({e})") from None
+    if not isinstance(tests, list):
+        raise GradeError(f"{checker.name} --grader-manifest printed no test list")
+    fields = {"name": str, "worksheet": int, "points": (int, float), "hint": str}
+    checked = []
     for t in tests:
+        if not isinstance(t, dict) or any(not isinstance(t.get(k), kind) for k, kind in fields.items()):
+            raise GradeError(f"{checker.name} --grader-manifest: a test without its name, worksheet, points or hint: {t!r:.200}")
+        t = dict(t)
         for key in ("time_limit", "memory_limit", "thread_limit", "file_limit"):
-            t.setdefault(key, 0)
-        t.setdefault("depends_on", [])
-        t.setdefault("hidden", False)
-    return in_dependency_order(tests)
+            value = t.get(key) or 0
+            t[key] = value if isinstance(value, (int, float)) and value >= 0 else 0
+        t["depends_on"] = [d for d in t.get("depends_on") or [] if isinstance(d, str)]
+        t["hidden"] = bool(t.get("hidden", False))
+        checked.append(t)
+    if len({t["name"] for t in checked}) != len(checked):
+        raise GradeError(f"{checker.name} --grader-manifest lists a test twice")
+    return in_dependency_order(checked)
+
+
+manifest = checker_manifest
 
 
 def in_dependency_order(tests):
@@ -196,22 +217,287 @@ def _signal_name(number):
         return f"signal {number}"
 
 
-def run_one(binary, test, limits, guard=None, alone=False):
-    """Runs one graded test (its name) in its own process, within its Limits, in the sandbox where
-    there is one. Returns (passed, output, seconds). With a guard (the fallback without a sandbox), a
-    test that writes into the lab's files fails; when other tests ran at the same time, the ones
-    that may have written run again, one at a time, so that only the writer is blamed."""
+# ---- One graded test: the checker (trusted) and the submission's engine (in the sandbox) ----------
+
+class Programs:
+    """What grades one variant: the trusted checker (the graded tests, no submission code), the
+    variant's engine that answers it (gpl-hooks-VARIANT, untrusted) and the launcher (trusted)."""
+
+    def __init__(self, checker, hooks, launcher=None, sanitizer=None):
+        self.checker = pathlib.Path(checker).resolve()
+        self.hooks = pathlib.Path(hooks).resolve()
+        self.launcher = pathlib.Path(launcher or os.environ.get("GPL_LAUNCH") or self.checker.parent / "gpl-launch").resolve()
+        # The leak checker's clone and ptrace are allowed only when the trusted configuration says
+        # the build has sanitizers (CTest sets GPL_GRADER_SANITIZER for the asan presets).
+        self.sanitizer = (os.environ.get("GPL_GRADER_SANITIZER", "") not in ("", "0")) if sanitizer is None else sanitizer
+        for what, path in (("checker", self.checker), ("engine", self.hooks), ("launcher", self.launcher)):
+            if not path.is_file():
+                raise GradeError(f"{what} not found: {path}")
+
+    def manifest(self):
+        return checker_manifest(self.checker)
+
+
+def _high_fd(fd):
+    """fd moved above 9 (close-on-exec), so that placing the pipes at 0-4 in a child never clobbers one."""
+    if fd > 9:
+        return fd
+    new = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 10)
+    os.close(fd)
+    return new
+
+
+def _spawn(argv, env, fds, output_path=None):
+    """Starts argv in a session of its own with fds {target: source} placed (stdin /dev/null; stdout
+    and stderr to fds[1] or to output_path). Thread-safe (posix_spawn). Returns the pid."""
+    actions = [(os.POSIX_SPAWN_OPEN, 0, "/dev/null", os.O_RDONLY, 0)]
+    if output_path is not None:
+        actions += [(os.POSIX_SPAWN_OPEN, 1, str(output_path), os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600),
+                    (os.POSIX_SPAWN_DUP2, 1, 2)]
+    for target, source in sorted(fds.items()):
+        actions.append((os.POSIX_SPAWN_DUP2, source, target))
+        if target == 1 and output_path is None:
+            actions.append((os.POSIX_SPAWN_DUP2, source, 2))
+    return os.posix_spawn(argv[0], argv, env, file_actions=actions, setsid=True)
+
+
+def _status(pid, block=False):
+    """The returncode (negative: a signal) of a child, or None while it runs."""
+    try:
+        got, status = os.waitpid(pid, 0 if block else os.WNOHANG)
+    except ChildProcessError:
+        return -signal.SIGKILL
+    if got == 0:
+        return None
+    return os.waitstatus_to_exitcode(status)
+
+
+def _kill_tree(pid):
+    for p in reversed(sandbox.descendants(pid)):
+        try:
+            os.kill(p, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
+    try:
+        os.killpg(pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass
+
+
+class Pair:
+    """What happened when the checker and the engine ran one test."""
+    checker_rc = None       # the checker's returncode (None: killed by the grader)
+    runner_rc = None        # the engine's (bubblewrap's) returncode
+    why = None              # None, "timeout", "output", "memory" or "threads": a limit the grader or kernel kept
+    output = ""             # what the engine printed (capped)
+    trace = ""              # the call stack the engine wrote (untrusted: it only refines a message)
+    killed = False          # the grader ended the engine (its status says nothing of its own)
+    seconds = 0.0
+
+
+def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
+    """Runs one graded test: the engine first (in the sandbox, within its limits), then the checker,
+    wired by two pipes; the wall clock applies to the pair. At a limit the checker is asked which
+    call was in flight (SIGUSR2) and the engine to write its call stack (SIGUSR1); when the checker
+    ends, every process of the engine is killed."""
+    sandbox_here = sandbox_here or sandbox.Sandbox.here()
+    cgroups = cgroups or Cgroups.here()
+    folder = pathlib.Path(folder)
+    group = cgroups.make(limits) if cgroups.available else None
+    result = Pair()
+    pipes = []
+    try:
+        cmd, env, trace = sandbox_here.runner_command(programs.hooks, ["--serve"], folder, limits, programs.launcher,
+                                                     group, programs.sanitizer)
+        a_read, a_write = map(_high_fd, os.pipe())   # checker -> engine
+        b_read, b_write = map(_high_fd, os.pipe())   # engine -> checker
+        out_read, out_write = map(_high_fd, os.pipe())
+        pipes = [a_read, a_write, b_read, b_write, out_read, out_write]
+        runner = _spawn(cmd, env, {1: out_write, 3: a_read, 4: b_write})
+        for fd in (a_read, b_write, out_write):
+            os.close(fd)
+            pipes.remove(fd)
+        checker_env = {**os.environ, "GPL_CHECKER_STATUS": str(folder / "status.jsonl")}
+        checker_cmd = [str(programs.checker), f"--gtest_filter={test}",
+                       f"--gtest_output=json:{folder / 'report.json'}"]
+        start = time.monotonic()
+        try:
+            checker = _spawn(checker_cmd, checker_env, {3: b_read, 4: a_write}, output_path=folder / "checker.txt")
+        except OSError:
+            _kill_tree(runner)
+            _status(runner, block=True)
+            raise
+        for fd in (b_read, a_write):
+            os.close(fd)
+            pipes.remove(fd)
+
+        chunks, size, stopped = [], 0, threading.Event()
+
+        def reader():
+            nonlocal size
+            while True:
+                try:
+                    data = os.read(out_read, 65536)
+                except OSError:
+                    return
+                if not data:
+                    return
+                if size < OUTPUT_CAP:
+                    chunks.append(data[: OUTPUT_CAP - size])
+                size += len(data)
+                if size > OUTPUT_CAP:
+                    stopped.set()
+
+        thread = threading.Thread(target=reader, daemon=True)
+        thread.start()
+        watch = None if group else _watch(limits)
+        deadline = start + limits.seconds
+        while True:
+            if result.checker_rc is None:
+                result.checker_rc = _status(checker)
+                if result.checker_rc is not None:
+                    break
+            if result.runner_rc is None:
+                result.runner_rc = _status(runner)
+            if stopped.is_set():
+                result.why = "output"
+                break
+            if time.monotonic() >= deadline:
+                result.why = "timeout"
+                break
+            if watch is not None and result.runner_rc is None:
+                result.why = watch(runner)
+                if result.why:
+                    break
+            time.sleep(0.005 if time.monotonic() - start < 0.2 else 0.02)
+        if result.why is not None:
+            # Which call was in flight (the checker's word, trusted), and the engine's call stack.
+            try:
+                os.kill(checker, signal.SIGUSR2)
+            except ProcessLookupError:
+                pass
+            if result.runner_rc is None:
+                for pid in (group.processes() if group else sandbox.test_processes(runner)):
+                    if sandbox._usage(pid) and sandbox._usage(pid)[2] not in ("bwrap", "gpl-launch"):
+                        try:
+                            os.kill(pid, signal.SIGUSR1)
+                        except (ProcessLookupError, PermissionError):
+                            pass
+                grace = time.monotonic() + TRACE_GRACE
+                while result.runner_rc is None and time.monotonic() < grace:
+                    time.sleep(0.01)
+                    result.runner_rc = _status(runner)
+        # The engine's processes go, all of them, whatever the checker did.
+        if result.runner_rc is None:
+            result.runner_rc = _status(runner)
+            result.killed = result.runner_rc is None
+        if result.runner_rc is None:
+            # The engine's own processes first, so that bubblewrap ends and reaps them itself.
+            for pid in (group.processes() if group else sandbox.descendants(runner)):
+                usage = sandbox._usage(pid)
+                if usage and usage[2] not in ("bwrap", "gpl-launch"):
+                    try:
+                        os.kill(pid, signal.SIGKILL)
+                    except (ProcessLookupError, PermissionError):
+                        pass
+            settle = time.monotonic() + 0.5
+            while result.runner_rc is None and time.monotonic() < settle:
+                time.sleep(0.005)
+                result.runner_rc = _status(runner)
+        if group:
+            group.kill()
+        if result.runner_rc is None:
+            _kill_tree(runner)
+            result.runner_rc = _status(runner, block=True)
+        if result.checker_rc is None:
+            # The engine is gone: a checker waiting for it reads the end of its pipe and finishes.
+            finish = time.monotonic() + (0.1 if result.why else 2.0)
+            while result.checker_rc is None and time.monotonic() < finish:
+                time.sleep(0.01)
+                result.checker_rc = _status(checker)
+            if result.checker_rc is None:
+                _kill_tree(checker)
+                _status(checker, block=True)
+        else:
+            _kill_tree(checker)  # anything the checker left (it starts none)
+        thread.join(timeout=5)
+        result.output = b"".join(chunks).decode("utf-8", "replace")
+        if group:
+            # The kernel's word on memory and threads comes before the wall clock's: a thread that
+            # could not start may leave the engine waiting until the time is up.
+            result.why = group.broken() or result.why
+        result.trace = trace.read_text(errors="replace") if trace.exists() else ""
+        result.seconds = time.monotonic() - start
+        return result
+    finally:
+        for fd in pipes:
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+        if group:
+            group.remove()
+
+
+def _checker_status(folder):
+    """The checker's own notes (trusted): [(event, call, detail)]."""
+    events = []
+    path = pathlib.Path(folder) / "status.jsonl"
+    if path.exists():
+        for line in path.read_text(errors="replace").splitlines():
+            try:
+                e = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            if isinstance(e, dict):
+                events.append((e.get("event"), e.get("call") if isinstance(e.get("call"), str) else None,
+                               e.get("detail") if isinstance(e.get("detail"), str) else ""))
+    return events
+
+
+# The one hook that calls the others (the step's stages): a call stack of the engine may name which
+# of them was running. Any other call is the hook itself, whatever the engine's stack says.
+WHOLE_STEP = "simulationTimestep()"
+
+
+def blamed_hook(call, trace, output):
+    """The hook named in a message: the call the checker had in flight (trusted), refined by the
+    engine's own call stack or failed assert only within a whole step; None when the checker had
+    no call in flight."""
+    if not call:
+        return None
+    if call == WHOLE_STEP:
+        return hook_in_trace(trace, output) or call
+    return call
+
+
+FORBIDDEN = {
+    "network": "tried to open a network connection{where}, which graded code may not do; it was stopped",
+    "process": "tried to start a process{where}, which graded code may not do; it was stopped",
+    "namespace": "tried to make a namespace or mount something{where}, which graded code may not do; it was stopped",
+    "memory": "tried to allocate shared memory or a memory file{where}, which graded code may not do; it was stopped",
+    "kernel": "tried to use a kernel interface that graded code may not use{where}; it was stopped",
+    "signal": "tried to send a signal to another process{where}, which graded code may not do; it was stopped",
+    "limit": "tried to raise its limit of open files{where}, which graded code may not do; it was stopped",
+}
+
+
+def run_one(programs, test, limits, guard=None, alone=False):
+    """Runs one graded test (its name) within its Limits. Returns (passed, output, seconds). With a
+    guard (the fallback without a sandbox), a test that writes into the lab's files fails; when
+    other tests ran at the same time, the ones that may have written run again, one at a time, so
+    that only the writer is blamed."""
     token = guard.start(alone) if guard else None
     try:
         sandbox.BUDGET.reserve(limits.memory_mib)
         try:
-            passed, output, seconds = _run_one(binary, test, limits)
+            passed, output, seconds = _run_one(programs, test, limits)
         finally:
             sandbox.BUDGET.release(limits.memory_mib)
     finally:
         tampered, suspect = guard.finish(token) if guard else ([], False)
     if suspect and not alone:
-        return run_one(binary, test, limits, guard, alone=True)
+        return run_one(programs, test, limits, guard, alone=True)
     if tampered:
         passed = False
         output = (f"wrote into the lab's own files, which is not allowed (undone): {', '.join(tampered)}\n"
@@ -220,7 +506,7 @@ def run_one(binary, test, limits, guard=None, alone=False):
 
 
 def _watch(limits):
-    """What the grader watches while a test runs: its resident memory and its threads."""
+    """What the grader watches where no cgroup counts for it: resident memory and threads."""
     def watch(pid):
         memory, threads = sandbox.usage(pid)
         if memory > limits.memory_mib:
@@ -235,76 +521,103 @@ SANITIZER_LINE = re.compile(r"^.*(?:: runtime error: |==[0-9]+==ERROR: [A-Za-z]+
 SANITIZER_MARK = "sanitizer: "
 
 
-def _run_one(binary, test, limits):
+def _run_one(programs, test, limits):
     with tempfile.TemporaryDirectory(prefix="gpl-grade-") as tmp:
-        report_path = pathlib.Path(tmp) / "report.json"
-        trace_path = pathlib.Path(tmp) / "trace.txt"
-        args = [f"--gtest_filter={test}", f"--gtest_output=json:{report_path}"]
-        env = {"GPL_GRADER_TRACE": str(trace_path), "GPL_GRADER_SANDBOX": "1"}
-        cmd, env, cwd = sandbox.Sandbox.here().command(binary, args, tmp, limits, env)
-        start = time.monotonic()
-        rc, out, why = run_limited(cmd, limits.seconds, cwd=cwd, env=env, warn_signal=signal.SIGUSR1,
-                                   watch=_watch(limits))
-        seconds = time.monotonic() - start
-        if sandbox.Sandbox.here().isolated and rc > 128:
-            rc = 128 - rc  # bubblewrap exits with 128 + the signal that ended the test
-        passed, output = _verdict(test, rc, out, why, limits, report_path, trace_path, binary)
+        pair = run_pair(programs, test, limits, tmp)
+        passed, output = verdict(test, pair, limits, pathlib.Path(tmp))
         # In a sanitizer build (asan, asan-core), a finding comes first in the message: the
         # self-checks of the solutions and the stubs fail on it even where the test fails anyway.
-        found = SANITIZER_LINE.search(out)
+        found = SANITIZER_LINE.search(pair.output)
         if found:
             passed = False
             output = f"{SANITIZER_MARK}{found.group(0).strip()}\n{output}".strip()
-        return passed, output, seconds
+        return passed, output, pair.seconds
 
 
-def _verdict(test, rc, out, why, limits, report_path, trace_path, binary):
-    trace = trace_path.read_text(errors="replace") if trace_path.exists() else ""
-    hook = hook_in_trace(trace, out)
+def _runner_signal(pair, isolated):
+    """The signal that ended the engine, or None (bubblewrap exits with 128 + the signal)."""
+    rc = pair.runner_rc
+    if rc is None:
+        return None
+    if rc < 0:
+        return -rc
+    if isolated and rc > 128:
+        return rc - 128
+    return None
+
+
+def verdict(test, pair, limits, folder, isolated=None):
+    """(passed, message): the checker's report decides; the engine's fate and the limits say why a
+    test failed, naming the hook the checker had in flight."""
+    isolated = sandbox.Sandbox.here().isolated if isolated is None else isolated
+    events = _checker_status(folder)
+    waiting = [call for event, call, _ in events if event == "waiting"]
+    ended = [(call, detail) for event, call, detail in events if event == "ended"]
+    call = waiting[-1] if waiting else (ended[0][0] if ended else None)
+    hook = blamed_hook(call, pair.trace, pair.output)
     where = f" in {hook}" if hook else ""
-    # The test's own last lines (a failed assert's message, say), without GoogleTest's banner.
+    out = pair.output
     tail = "\n".join([l for l in out.strip().splitlines() if not GTEST_LINE.match(l)][-8:])
-    if why == "timeout":
+    if pair.why == "timeout":
         return False, f"timed out after {limits.seconds:g} s{where} (an endless loop?)"
-    if why == "output":
-        own = [l for l in out.strip().splitlines() if not GTEST_LINE.match(l)]
-        head = "\n".join(own[:6])
+    if pair.why == "output":
+        head = "\n".join(out.strip().splitlines()[:6])
         return False, f"printed more than {OUTPUT_CAP // 1024} KiB of output{where} and was stopped; it began:\n{head}"
-    if why == "memory":
+    if pair.why == "memory":
         return False, (f"used more than {limits.memory_mib:g} MiB of memory{where} and was stopped "
                        "(a container that grows every step?)")
-    if why == "threads":
+    if pair.why == "threads":
         return False, f"ran more than {limits.threads} threads at once{where} and was stopped"
-    if rc < 0:
-        name = _signal_name(-rc)
+    report_path = folder / "report.json"
+    text = report_path.read_text(errors="replace") if report_path.exists() else ""
+    try:
+        report = json.loads(text) if text.strip() else None
+    except json.JSONDecodeError:
+        report = None
+    cases = [c for s in (report or {}).get("testsuites", []) for c in s.get("testsuite", [])]
+    ran = [c for c in cases if c.get("status", "RUN") == "RUN"]
+    names = [f"{c.get('classname', '')}.{c.get('name', '')}" for c in ran]
+    if report is not None and (report.get("tests", 0) == 0 or not ran):
+        return False, f"test {test} not found in the checker"
+    failures = _failure_messages(report) if report else []
+    passed = (report is not None and pair.checker_rc == 0 and names == [test] and not failures and
+              all(c.get("result", "COMPLETED") == "COMPLETED" for c in ran))
+    if passed:
+        return True, ""
+    signal_number = None if pair.killed else _runner_signal(pair, isolated)
+    if signal_number and (ended or report is None):
+        # The engine was ended by a signal during a call: what ended it says more than the checker.
+        name = _signal_name(signal_number)
         if name == "SIGSYS":
-            if "forbidden system call: network" in trace:
-                return False, f"tried to open a network connection{where}, which graded code may not do; it was stopped"
-            return False, f"tried to start a process{where}, which graded code may not do; it was stopped"
+            m = re.search(r"forbidden system call: (\w+)", pair.trace)
+            kind = m.group(1) if m and m.group(1) in FORBIDDEN else "process"
+            return False, FORBIDDEN[kind].format(where=where)
         if name == "SIGXCPU":
             return False, (f"used more than {limits.cpu_seconds()} s of CPU time{where} and was "
                            "stopped (an endless loop in several threads?)")
         if name == "SIGXFSZ":
             return False, f"wrote more than {limits.file_mib:g} MiB to a file{where} and was stopped"
+        if name == "SIGSEGV" and "grader: stack overflow" in pair.trace:
+            return False, f"overflowed its stack{where} (an endless recursion?)\n{tail}".strip()
         what = {"SIGABRT": " (abort: a failed assert or an uncaught exception)",
                 "SIGFPE": " (an arithmetic error such as an integer division by zero)"}.get(name, "")
         return False, f"crashed with {name}{what}{where}\n{tail}".strip()
-    text = report_path.read_text(errors="replace") if report_path.exists() else ""
-    if not text.strip():
-        return False, f"the test exited with status {rc}{where} before reporting\n{out[-2000:]}".strip()
-    try:
-        report = json.loads(text)
-    except json.JSONDecodeError:
-        return False, f"the test's report is unreadable (exit status {rc}){where}\n{out[-2000:]}".strip()
-    if report.get("tests", 0) != 1:
-        return False, f"test {test} not found in {pathlib.Path(binary).name}"
-    failures = _failure_messages(report)
-    passed = rc == 0 and not failures
+    if ended:
+        # The engine left the call (exited) or answered something that is no answer: the checker says which.
+        _, detail = ended[0]
+        rc = pair.runner_rc
+        status = f" (it exited with status {rc})" if rc and not pair.killed and rc > 0 and (not isolated or rc < 128) else ""
+        return False, f"the engine did not answer{where}: {detail or 'it stopped'}{status}\n{tail}".strip()
+    if report is None:
+        own = (folder / "checker.txt").read_text(errors="replace").strip().splitlines()[-5:] \
+            if (folder / "checker.txt").exists() else []
+        return False, "\n".join([f"the checker ended (status {pair.checker_rc}) without a report{where}", *own, tail]).strip()
     if any("std::bad_alloc" in m for m in failures):
         failures.insert(0, f"ran out of memory{where}: an allocation failed (std::bad_alloc)")
     # The fixture's "hooks still not implemented" note says the most: show it first.
     failures.sort(key=lambda m: not m.startswith("hooks still not implemented"))
-    return passed, "\n".join(failures)
+    return False, "\n".join(failures) or f"the checker failed (status {pair.checker_rc}){where}"
+
 
 
 def with_prerequisites(tests, name):
@@ -327,12 +640,11 @@ def select(tests, worksheet):
     return picked
 
 
-def grade_binary(binary, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, only=None):
+def grade_binary(programs, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, only=None, tests=None):
     """Grades every selected test (of the worksheet; of those named in `only` too, when given),
-    prerequisites first. A test whose prerequisite lost its points is not run: it scores zero and
-    says which prerequisite to fix first."""
-    binary = pathlib.Path(binary).resolve()
-    tests = select(manifest(binary), worksheet)
+    prerequisites first, the list from the trusted checker. A test whose prerequisite lost its
+    points is not run: it scores zero and says which prerequisite to fix first."""
+    tests = select(tests if tests is not None else programs.manifest(), worksheet)
     if only is not None:
         tests = [t for t in tests if t["name"] in only]
     results = {}
@@ -342,10 +654,12 @@ def grade_binary(binary, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, o
             results[t["name"]] = {**t, "passed": False, "not_run": True, "score": 0.0, "seconds": 0.0,
                                   "output": f"not run: depends on {', '.join(blocked)}, which did not pass; fix that first"}
             continue
-        passed, output, seconds = run_one(binary, t["name"], limits_of(t, defaults), guard)
+        passed, output, seconds = run_one(programs, t["name"], limits_of(t, defaults), guard)
         results[t["name"]] = {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
                               "output": output, "seconds": seconds}
     return list(results.values())
+
+
 
 
 def failed_results(tests, message):

@@ -1,22 +1,27 @@
-"""Where and within what a graded test runs.
+"""Where and within what a graded test's engine (the submission's code) runs.
 
 Limits, each with a default and a per-test override declared with the test (graded.h):
-  time     wall clock, watched by the grader (--timeout or grading::timeLimit); CPU time is a kernel
-           limit a second above it (SIGXCPU), so threads cannot multiply it (one thread meets the
-           wall clock first)
-  memory   resident memory of the test, watched by the grader (grading::memoryLimit)
-  threads  threads at once, watched by the grader (grading::threadLimit)
+  time     wall clock of the checker and the engine together, watched by the grader (--timeout or
+           grading::timeLimit); CPU time is a kernel limit a second above it (SIGXCPU)
+  memory   the test's memory however it is allocated, a kernel limit where a cgroup can be made
+           (cgroups.py), else its resident memory watched by the grader (grading::memoryLimit)
+  threads  threads and processes at once, a kernel limit (cgroup pids.max) or watched
+           (grading::threadLimit)
   files    bytes written to one file, a kernel limit (SIGXFSZ, grading::fileLimit); the private
            temporary folder holds twice that in all
-Starting a process or opening a network connection is refused by the autograder's own system-call
-filter (graded.cpp, switched on by GPL_GRADER_SANDBOX), with or without bubblewrap.
+The launcher (gpl-launch, trusted) sets the kernel's limits and installs the system-call filter
+(no process, no network, no namespace, no shared memory, no exec) before the engine's first
+instruction, its static initializers included.
 
-With bubblewrap (Debian `bubblewrap`) each test also runs in its own namespaces: it sees the system's
-/usr read-only, its own binary, a private size-limited /tmp and nothing else: not the lab, not
-solutions/, not other submissions, not the results; no network, no other processes, no capabilities.
-Where the kernel does not allow that (some containers), the grader says so in one line and falls back
-to running the test directly, with the write guard (guard.py) watching the lab's files.
-GPL_GRADER_SANDBOX=off in the grader's environment chooses the fallback on purpose.
+With bubblewrap (Debian `bubblewrap`) the engine also runs in its own namespaces: it sees the
+system's /usr read-only, its own binary, a private size-limited /tmp and nothing else: not the lab,
+not solutions/, not other submissions, not the results; no network, no other processes, no
+capabilities. Where the kernel does not allow that (some containers), the grader says so in one line
+and falls back to running the engine directly (as nobody when the grader is root), with the write
+guard (guard.py) watching the lab's files. GPL_GRADER_SANDBOX=off chooses the fallback on purpose.
+
+Submissions are compiled in the same sandbox (compile_command): the compiler sees the system, the
+framework's headers and the hook files only.
 """
 import dataclasses
 import os
@@ -127,33 +132,49 @@ class Sandbox:
         if self.isolated:
             return ("sandbox: each test ran in bubblewrap (no view of the lab, solutions or other "
                     "submissions; no network; no processes)")
-        return (f"sandbox: not used: {self.reason}; tests ran directly, without file or network isolation "
-                "(processes are still refused, the lab's files guarded)")
+        user = " as nobody" if os.geteuid() == 0 else ""
+        return (f"sandbox: not used: {self.reason}; the engine ran{user} without file isolation "
+                "(processes and network are still refused, the lab's files guarded)")
 
-    def command(self, binary, args, folder, limits, env):
-        """The command that runs `binary args` under the limits, in the sandbox when there is one.
-        folder is the test's own folder on the host: the report and trace files in it (made here) are
-        the only host files the test may write; inside the sandbox they are /grader/NAME."""
+    def runner_command(self, runner, args, folder, limits, launcher, cgroup=None, sanitizer=False):
+        """The command that runs the untrusted `runner args` under the limits: joined to its cgroup
+        (when there is one) before anything runs, in bubblewrap when there is a sandbox, and through
+        the launcher, which sets the kernel's limits and the system-call filter before the runner's
+        first instruction. Returns (command, environment, runner's trace file on the host).
+
+        folder is the test's own folder on the host (made by the caller, private to the grader): the
+        runner's trace file is made in folder/runner/, the only host file the runner may write;
+        inside the sandbox it is /grader/trace.txt."""
         folder = pathlib.Path(folder)
-        file_bytes = int(limits.file_mib * MIB)
-        cpu = limits.cpu_seconds()
-        prlimit = shutil.which("prlimit")
-        wrap = ([prlimit, f"--fsize={file_bytes}", f"--cpu={cpu}:{cpu + 1}", "--core=0", "--"] if prlimit else [])
+        launcher = str(pathlib.Path(launcher).resolve())
+        own = folder / "runner"
+        own.mkdir(exist_ok=True)
+        trace = own / "trace.txt"
+        trace.touch()
+        limit_args = ["--cpu", str(limits.cpu_seconds()), "--file-bytes", str(int(limits.file_mib * MIB))]
+        if sanitizer:
+            limit_args.append("--sanitizer")
+        joined = cgroup.launcher_args() if cgroup else []
+        env = {"PATH": "/usr/bin:/bin"}
         if not self.isolated:
-            return wrap + [str(binary), *args], {**os.environ, **env}, str(folder)
-        inside = {}
-        binds = []
-        for name in ("report.json", "trace.txt"):
-            (folder / name).touch()
-            inside[name] = f"/grader/{name}"
-            binds += ["--bind", str(folder / name), inside[name]]
-        target = f"/grader/{pathlib.Path(binary).name}"
-        binds += ["--ro-bind", str(pathlib.Path(binary).resolve()), target]
-        setenv = []
-        for key, value in env.items():
-            for name, path in inside.items():
-                value = value.replace(str(folder / name), path)
-            setenv += ["--setenv", key, value]
+            # Without namespaces the runner gives up root (when the grader has it) and works in a
+            # folder of its own; the lab stays readable, which the report's sandbox line says.
+            os.chmod(folder, 0o711)
+            os.chmod(own, 0o777)
+            os.chmod(trace, 0o666)
+            drop = ["--drop-user"] if os.geteuid() == 0 else []
+            env["GPL_GRADER_TRACE"] = str(trace)
+            for key in SANITIZER_OPTIONS:
+                if key in os.environ:
+                    env[key] = os.environ[key]
+            cmd = [launcher, *joined, *limit_args, *drop, "--chdir", str(own), "--",
+                   str(pathlib.Path(runner).resolve()), *args]
+            return cmd, env, trace
+        target = f"/grader/{pathlib.Path(runner).name}"
+        binds = ["--ro-bind", launcher, "/grader/gpl-launch",
+                 "--ro-bind", str(pathlib.Path(runner).resolve()), target,
+                 "--bind", str(trace), "/grader/trace.txt"]
+        setenv = ["--setenv", "GPL_GRADER_TRACE", "/grader/trace.txt"]
         for key in SANITIZER_OPTIONS:  # the sanitizers' options travel, with their suppression files
             if key in os.environ:
                 parts = []
@@ -165,11 +186,34 @@ class Sandbox:
                         part = f"suppressions={path}"
                     parts.append(part)
                 setenv += ["--setenv", key, ":".join(parts)]
-        args = [a.replace(str(folder / "report.json"), inside["report.json"]) for a in args]
+        file_bytes = int(limits.file_mib * MIB)
         cmd = [self.bwrap, *NAMESPACES, *_system_binds(), "--size", str(2 * file_bytes), "--tmpfs", "/tmp",
                *binds, "--remount-ro", "/", "--remount-ro", "/dev", "--clearenv",
-               "--setenv", "PATH", "/usr/bin", *setenv, "--chdir", "/tmp", target, *args]
-        return wrap + cmd, {"PATH": os.environ.get("PATH", "/usr/bin")}, str(folder)
+               "--setenv", "PATH", "/usr/bin", *setenv, "--chdir", "/tmp",
+               "/grader/gpl-launch", *limit_args, "--", target, *args]
+        if joined:
+            cmd = [launcher, "--join-only", *joined, "--"] + cmd
+        return cmd, env, trace
+
+    def compile_command(self, argv, binds, writable, limits, cgroup=None, launcher=None, cwd="/tmp"):
+        """The command that runs a compiler (or linker) `argv` in the sandbox: the system's /usr and
+        `binds` ({host path: path inside}) read-only, `writable` ({host: inside}) writable, nothing
+        else; a private /tmp. With a cgroup, the compiler joins it first (memory and processes).
+        Without a sandbox: argv as it is (the caller checks what it includes). Returns (command, env)."""
+        env = {"PATH": "/usr/bin:/bin", "LANG": "C", "LC_ALL": "C"}
+        joined = cgroup.launcher_args() if cgroup and launcher else []
+        prefix = [str(launcher), "--join-only", *joined, "--"] if joined else []
+        if not self.isolated:
+            return prefix + list(argv), {**os.environ, **env}
+        args = []
+        for host, inside in binds.items():
+            args += ["--ro-bind", str(host), str(inside)]
+        for host, inside in writable.items():
+            args += ["--bind", str(host), str(inside)]
+        cmd = [self.bwrap, *NAMESPACES, *_system_binds(), "--size", str(int(limits.file_mib * MIB) * 4),
+               "--tmpfs", "/tmp", *args, "--remount-ro", "/", "--clearenv",
+               *(a for k, v in env.items() for a in ("--setenv", k, v)), "--chdir", cwd, *argv]
+        return prefix + cmd, {"PATH": os.environ.get("PATH", "/usr/bin")}
 
 
 # ---- What a running test uses ---------------------------------------------------------------------
@@ -205,7 +249,7 @@ def _usage(pid):
 
 def test_processes(pid):
     """The processes of a running test: those below pid that are not bubblewrap's or prlimit's."""
-    return [p for p in descendants(pid) if (_usage(p) or (0, 0, "bwrap"))[2] not in ("bwrap", "prlimit")]
+    return [p for p in descendants(pid) if (_usage(p) or (0, 0, "bwrap"))[2] not in ("bwrap", "prlimit", "gpl-launch")]
 
 
 def usage(pid):
