@@ -91,6 +91,15 @@ class TestCgroup:
                 return "threads"
         return None
 
+    def near_memory_limit(self, share=0.8):
+        """Whether the test uses more than `share` of its memory limit now (the grader stops it
+        there, so that it can write where it was; the kernel's limit stays the backstop)."""
+        if not self.limits:
+            return False
+        name = "memory.usage_in_bytes" if self.kind == "v1" else "memory.current"
+        text = _read(self.memory_dir / name).strip()
+        return text.isdigit() and int(text) > share * self.limits.memory_mib * MIB
+
     def peak_mib(self):
         name = "memory.max_usage_in_bytes" if self.kind == "v1" else "memory.peak"
         text = _read(self.memory_dir / name).strip()

@@ -369,7 +369,12 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
                 result.why = watch(runner)
                 if result.why:
                     break
-            time.sleep(0.005 if time.monotonic() - start < 0.2 else 0.02)
+            if group is not None and result.runner_rc is None and group.near_memory_limit():
+                # Stopped just before the kernel would kill it, so that it can say where it was.
+                result.why = "memory"
+                break
+            # Often enough to stop a growing engine before the kernel's memory limit (no call stack then).
+            time.sleep(0.005 if group is not None or time.monotonic() - start < 0.2 else 0.02)
         if result.why is not None:
             # Which call was in flight (the checker's word, trusted), and the engine's call stack.
             try:
@@ -387,9 +392,16 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
                 while result.runner_rc is None and time.monotonic() < grace:
                     time.sleep(0.01)
                     result.runner_rc = _status(runner)
-        # The engine's processes go, all of them, whatever the checker did.
+        # The engine's processes go, all of them, whatever the checker did. An engine that ended
+        # (at the end of its requests, or by a signal bubblewrap has still to pass on) is given a
+        # moment to say so: its status must not be mistaken for the grader's kill.
         if result.runner_rc is None:
+            # (In a sanitizer build the leak checker runs at that end, and its report counts.)
+            settle = time.monotonic() + (0.0 if result.why else 10.0 if programs.sanitizer else 0.5)
             result.runner_rc = _status(runner)
+            while result.runner_rc is None and time.monotonic() < settle:
+                time.sleep(0.005)
+                result.runner_rc = _status(runner)
             result.killed = result.runner_rc is None
         if result.runner_rc is None:
             # The engine's own processes first, so that bubblewrap ends and reaps them itself.
@@ -426,7 +438,10 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
             # The kernel's word on memory and threads comes before the wall clock's: a thread that
             # could not start may leave the engine waiting until the time is up.
             result.why = group.broken() or result.why
-        result.trace = trace.read_text(errors="replace") if trace.exists() else ""
+        result.trace = ""
+        if trace.exists():
+            with open(trace, "rb") as f:  # the engine wrote it: no more than its first MiB is read
+                result.trace = f.read(1 << 20).decode("utf-8", "replace")
         result.seconds = time.monotonic() - start
         return result
     finally:
