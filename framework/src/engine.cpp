@@ -220,6 +220,12 @@ void PhysicsEngine::setStageEnabled(Stage stage, bool on) {
 }
 
 void PhysicsEngine::step() {
+    beginStep();
+    simulationTimestep();
+    endStep();
+}
+
+void PhysicsEngine::beginStep() {
     contacts_.clear();
     nearPairs_.clear();
     // The gravity stage sets the accumulators anew each step; switched off, they start empty
@@ -227,7 +233,9 @@ void PhysicsEngine::step() {
     if (!stageActive(Stage::ConstantAcceleration)) {
         for (Body& b : bodies_) b.acceleration = Vec3::Zero();
     }
-    simulationTimestep();
+}
+
+void PhysicsEngine::endStep() {
     time_ += timeStep_;
     ++steps_;
     if (allFinite()) return;

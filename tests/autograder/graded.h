@@ -22,8 +22,13 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <string>
 #include <vector>
+
+namespace gpl {
+class PhysicsEngine;
+}
 
 namespace gpl::grading {
 
@@ -53,6 +58,12 @@ inline Option threadLimit(int threads) { return {Option::Kind::ThreadLimit, doub
 inline Option fileLimit(double mebibytes) { return {Option::Kind::FileLimit, mebibytes, nullptr}; }
 inline Option dependsOn(const char* test) { return {Option::Kind::DependsOn, 0.0, test}; }
 inline Option hidden() { return {Option::Kind::Hidden, 0.0, nullptr}; }
+
+/// Steps `engine` n times, as n calls of engine.step() would, with one request to the submission's
+/// engine for many steps at once; after step k (1..n) calls each(k), which reads the engine (never
+/// changes it) and returns false to stop there. A body no longer finite, or a hook's exception,
+/// throws as step() does. For long runs checked after every step.
+void steps(PhysicsEngine& engine, int n, const std::function<bool(int)>& each);
 
 /// Registers a graded test; returns true so it can initialise a static.
 bool registerTest(const char* suite, const char* name, double points, const char* hint,

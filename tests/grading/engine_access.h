@@ -187,12 +187,22 @@ struct EngineAccess {
     static bool sameBodies(const std::vector<Body>& a, const std::vector<Vec3>& previousA, const PhysicsEngine& b) {
         if (a.size() != b.bodies_.size() || previousA.size() != b.previousPositions_.size()) return false;
         for (std::size_t i = 0; i < a.size(); ++i) {
-            if (std::memcmp(&a[i], &b.bodies_[i], offsetof(Body, name)) != 0 || a[i].name != b.bodies_[i].name) {
-                return false;
-            }
+            if (!sameBody(a[i], b.bodies_[i])) return false;
         }
         return previousA.empty() ||
                std::memcmp(previousA.data(), b.previousPositions_.data(), previousA.size() * sizeof(Vec3)) == 0;
+    }
+
+    /// Field by field, each to the bit (a NaN equals itself; the padding between fields is not compared).
+    static bool sameBody(const Body& x, const Body& y) {
+        const auto same = [](const auto& u, const auto& v) { return std::memcmp(&u, &v, sizeof u) == 0; };
+        return same(x.shape, y.shape) && same(x.radius, y.radius) && same(x.position, y.position) &&
+               same(x.velocity, y.velocity) && same(x.acceleration, y.acceleration) && same(x.mass, y.mass) &&
+               same(x.invMass, y.invMass) && same(x.angularVelocity, y.angularVelocity) &&
+               same(x.restitution, y.restitution) && same(x.friction, y.friction) &&
+               same(x.staticFriction, y.staticFriction) && same(x.orientation.coeffs(), y.orientation.coeffs()) &&
+               same(x.inertia, y.inertia) && same(x.invInertia, y.invInertia) && same(x.halfExtents, y.halfExtents) &&
+               same(x.normal, y.normal) && same(x.force, y.force) && same(x.torque, y.torque) && x.name == y.name;
     }
 
     /// Copies what a hook may change of a body (its motion: position, velocity, the accumulators,
@@ -205,6 +215,15 @@ struct EngineAccess {
         to.orientation = from.orientation;
         to.force = from.force;
         to.torque = from.torque;
+    }
+
+    /// What step() does before and after simulationTimestep().
+    static void beginStep(PhysicsEngine& e) { e.beginStep(); }
+    static void endStep(PhysicsEngine& e) { e.endStep(); }
+    /// endStep() without its check: the clock alone (the engine's side; the checker checks).
+    static void advanceClock(PhysicsEngine& e) {
+        e.time_ += e.timeStep_;
+        ++e.steps_;
     }
 
     static const std::vector<Body>& bodies(const PhysicsEngine& e) { return e.bodies_; }

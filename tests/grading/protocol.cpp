@@ -30,6 +30,7 @@ const char* callName(Call call) {
         case Call::ApplyNormalImpulse: return "applyNormalImpulse()";
         case Call::ApplyFrictionImpulse: return "applyFrictionImpulse()";
         case Call::ApplyWarmStart: return "applyWarmStart()";
+        case Call::Steps: return "simulationTimestep()";
         case Call::End: break;
     }
     return "an unknown hook";
@@ -289,10 +290,9 @@ std::size_t readAll(int fd, char* p, std::size_t n) {
 
 bool sendFrame(int fd, const std::string& bytes) {
     const auto n = static_cast<std::uint32_t>(bytes.size());
-    std::string frame(sizeof n, '\0');
-    std::memcpy(frame.data(), &n, sizeof n);
-    frame += bytes;
-    return writeAll(fd, frame.data(), frame.size());
+    char head[sizeof n];
+    std::memcpy(head, &n, sizeof n);
+    return writeAll(fd, head, sizeof head) && writeAll(fd, bytes.data(), bytes.size());
 }
 
 std::optional<std::string> receiveFrame(int fd) {

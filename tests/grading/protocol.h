@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
 #include <optional>
 #include <stdexcept>
@@ -50,7 +51,8 @@ enum class Call : std::uint8_t {
     ApplyNormalImpulse,
     ApplyFrictionImpulse,
     ApplyWarmStart,
-    End  ///< one past the last
+    Steps,  ///< whole steps of the engine, simulationTimestep() in each (graded.h: grading::steps())
+    End     ///< one past the last
 };
 
 /// The hook as a student knows it: "integrator()".
@@ -77,6 +79,11 @@ constexpr std::uint32_t kMaxStringBytes = 1u << 16;
 class Writer {
 public:
     const std::string& bytes() const { return bytes_; }
+    void append(const Writer& other) { bytes_ += other.bytes_; }
+    std::size_t size() const { return bytes_.size(); }
+    void reserve(std::size_t n) { bytes_.reserve(n); }
+    /// Writes v over the 4 bytes at `at`, a place kept with u32() for a count known later.
+    void patchU32(std::size_t at, std::uint32_t v) { std::memcpy(bytes_.data() + at, &v, sizeof v); }
     void u8(std::uint8_t v) { raw(&v, sizeof v); }
     void u32(std::uint32_t v) { raw(&v, sizeof v); }
     void u64(std::uint64_t v) { raw(&v, sizeof v); }
@@ -104,7 +111,9 @@ private:
 /// Reads one frame field by field; throws ProtocolError on anything that is not there or not valid.
 class Reader {
 public:
-    explicit Reader(const std::string& bytes) : p_(bytes.data()), end_(bytes.data() + bytes.size()) {}
+    /// Reads `bytes` from byte `from` on.
+    explicit Reader(const std::string& bytes, std::size_t from = 0)
+        : p_(bytes.data() + std::min(from, bytes.size())), end_(bytes.data() + bytes.size()) {}
     std::uint8_t u8() { return pod<std::uint8_t>(); }
     std::uint32_t u32() { return pod<std::uint32_t>(); }
     std::uint64_t u64() { return pod<std::uint64_t>(); }

@@ -70,6 +70,8 @@ std::string jsonEscaped(const std::string& s) {
     return out;
 }
 
+}  // namespace
+
 [[noreturn]] void endNow(Call call, const std::string& detail) {
     ended = true;
     endedWhy = detail.empty() ? std::string("the submission's code stopped answering during ") + callName(call)
@@ -92,6 +94,8 @@ std::string jsonEscaped(const std::string& s) {
 }
 
 // Only names of hooks count: an engine's answer cannot fill the checker's record with anything else.
+namespace {
+
 void record(const std::vector<std::string>& open) {
     lastOpen.clear();
     for (const std::string& hook : open) {
@@ -127,7 +131,7 @@ void connectSubmission(const std::string& program) {
     if (child < 0) throw std::runtime_error("cannot start " + program);
     if (child == 0) {
         // dup2() onto itself keeps close-on-exec: then the flag is cleared instead.
-        for (const auto [fd, target] : {std::pair{toRunner[0], 3}, std::pair{fromRunner[1], 4}}) {
+        for (const auto& [fd, target] : {std::pair{toRunner[0], 3}, std::pair{fromRunner[1], 4}}) {
             if (fd == target) {
                 fcntl(fd, F_SETFD, 0);
             } else {
@@ -164,9 +168,7 @@ std::string request(Call call, const std::string& inputs, const AccelerationFunc
         try {
             Reader r(*frame);
             const std::uint8_t kind = r.u8();
-            if (kind == static_cast<std::uint8_t>(Frame::Answer)) {
-                return frame->substr(1);
-            }
+            if (kind == static_cast<std::uint8_t>(Frame::Answer)) return std::move(*frame);
             if (kind == static_cast<std::uint8_t>(Frame::Thrown)) {
                 const std::uint8_t what = r.u8();
                 if (what < 1 || what >= static_cast<std::uint8_t>(Thrown::End)) {
@@ -200,7 +202,7 @@ const std::vector<std::string>& openHooksOfLastAnswer() { return lastOpen; }
 
 /// Runs `read` on the answer; a ProtocolError in it ends the submission for this test.
 void parseAnswer(Call call, const std::string& answer, const std::function<void(Reader&)>& read) {
-    Reader r(answer);
+    Reader r(answer, 1);
     try {
         read(r);
         record(r.texts());

@@ -28,12 +28,19 @@ public:
 void connectSubmission(const std::string& program);
 
 /// Sends a request for `call` with its inputs; serves the integrator kernels' requests for
-/// accelerations with `accel`; returns the answer's outputs, followed by the hooks still open (parseAnswer() reads both). A hook that threw throws here the same kind of exception with its message.
+/// accelerations with `accel`; returns the answer: its kind (one byte), its outputs, and the hooks still open (parseAnswer()
+/// reads the last two). A hook that threw throws here the same kind of exception with its message.
 std::string request(Call call, const std::string& inputs, const AccelerationFunction* accel = nullptr);
 
 /// Reads an answer's outputs with `read`, then the hooks still open it names (recorded as
 /// request() does). An answer that does not parse ends the submission for this test.
 void parseAnswer(Call call, const std::string& answer, const std::function<void(Reader&)>& read);
+
+/// Ends the submission for this test: it stopped answering (detail empty) or answered nonsense
+/// (detail says what); every later request throws SubmissionEnded too.
+[[noreturn]] void endNow(Call call, const std::string& detail);
+/// Throws the kind of exception a hook threw, with its message.
+[[noreturn]] void rethrow(Thrown kind, const std::string& what);
 
 /// The hooks still open that the last answer named.
 const std::vector<std::string>& openHooksOfLastAnswer();

@@ -286,6 +286,10 @@ private:
     std::optional<Contact> ropeContactOf(const Rope& rope) const;
     /// The friction stage's first part: last step's contacts that now touch at depth ~0, kept whole (friction.cpp).
     void keepRestingContacts();
+    /// step() before simulationTimestep(): empties the contacts (and the accumulators when gravity is off).
+    void beginStep();
+    /// step() after simulationTimestep(): advances the clock and checks that every body is finite.
+    void endStep();
     /// e plus the energy of every spring, added one by one (J).
     double plusSpringEnergies(double e) const;
 };
