@@ -139,7 +139,7 @@ void particleCall(Call call, ParticleState& state, const AccelerationFunction& a
     w.particles(state);
     w.number(h);
     const std::size_t n = state.x.size();
-    grading::parseAnswer(call, grading::request(call, w.bytes(), &accel), [&](Reader& r) {
+    grading::parseAnswer(call, grading::request(call, w.bytes(), &accel, n), [&](Reader& r) {
         ParticleState s = r.particles();
         if (s.x.size() != n || s.v.size() != n || s.a.size() != n || (!s.xPrev.empty() && s.xPrev.size() != n)) {
             throw grading::ProtocolError("the kernel answered with another number of particles");

@@ -147,7 +147,7 @@ void connectSubmission(const std::string& program) {
     requests = toRunner[1];
 }
 
-std::string request(Call call, const std::string& inputs, const AccelerationFunction* accel) {
+std::string request(Call call, const std::string& inputs, const AccelerationFunction* accel, std::size_t particles) {
     if (ended) throw SubmissionEnded(endedWhy);
     inFlight = static_cast<int>(call);
     struct Clear {
@@ -182,7 +182,11 @@ std::string request(Call call, const std::string& inputs, const AccelerationFunc
             if (kind == static_cast<std::uint8_t>(Frame::AskAccelerations) && accel) {
                 const std::vector<Vec3> x = r.vec3s(), v = r.vec3s();
                 r.end();
-                if (x.size() != v.size()) throw ProtocolError("positions and velocities of different numbers");
+                // The test's acceleration function sees the particles it was written for, never others.
+                if (x.size() != particles || v.size() != particles) {
+                    throw ProtocolError("accelerations asked for " + std::to_string(x.size()) + " particles, not " +
+                                        std::to_string(particles));
+                }
                 std::vector<Vec3> a;
                 (*accel)(x, v, a);
                 Writer w;
