@@ -49,15 +49,17 @@ void writeText(const char* text) {
     if (write(traceFd, text, std::strlen(text)) < 0) return;  // nothing else to do in a handler
 }
 
-// What a refused system call tried, as the launcher's filter tags it (SECCOMP_RET_DATA, si_errno).
+// What a refused system call tried, as the launcher's filter tags it (SECCOMP_RET_DATA, si_errno;
+// launch.cpp's Tag).
 const char* refusedKind(int tag) {
     switch (tag) {
         case 1: return "grader: forbidden system call: process\n";
         case 2: return "grader: forbidden system call: network\n";
         case 3: return "grader: forbidden system call: namespace\n";
-        case 4: return "grader: forbidden system call: shared memory\n";
-        case 5: return "grader: forbidden system call: signal to another process\n";
-        case 6: return "grader: forbidden system call: kernel interface\n";
+        case 4: return "grader: forbidden system call: memory\n";
+        case 5: return "grader: forbidden system call: kernel\n";
+        case 6: return "grader: forbidden system call: signal\n";
+        case 7: return "grader: forbidden system call: limit\n";
         default: return "grader: forbidden system call\n";
     }
 }
