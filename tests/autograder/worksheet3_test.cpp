@@ -356,6 +356,30 @@ GRADED_TEST(Worksheet3, ResolveSeparatesPair, 3,
     }
 }
 
+GRADED_TEST(Worksheet3, ResolveSeparatesShallowOverlaps, 2,
+            "resolveInterpenetration(): an overlap of a micrometre is an overlap too: move the bodies apart by the "
+            "whole depth however small it is (a tolerance below which nothing moves leaves resting bodies sinking "
+            "into each other, a little more every step).",
+            grading::dependsOn("ResolveSeparatesPair")) {
+    Random rnd(324);
+    for (int i = 0; i < 200; ++i) {
+        // Depths from 1e-7 m to 1e-4 m, evenly over the decades.
+        const double depth = std::pow(10.0, rnd.uniform(-7.0, -4.0));
+        const double ra = rnd.uniform(0.1, 2.0), rb = rnd.uniform(0.1, 2.0);
+        const Vec3 xa = rnd.inBox(10.0), n = rnd.direction();
+        Body a = sphere("a", ra, rnd.uniform(0.1, 10.0)).at(xa);
+        Body b = sphere("b", rb, rnd.uniform(0.1, 10.0)).at(xa + (ra + rb - depth) * n);
+        const Body a0 = a, b0 = b;
+        const Contact c = sphereContact(a, b);
+        resolveInterpenetration(c, a, b);
+        const double moved = ((b.position - b0.position) - (a.position - a0.position)).dot(c.normal);
+        // Coordinates of ~10 m round to ~1e-15 m; the smallest depth is 1e-7 m, and leaving it alone is off by all of it.
+        ASSERT_NEAR(moved, c.depth, kRounding * scaleOf(a0, b0) + 1e-3 * c.depth)
+            << "a contact of depth " << c.depth << " m moved the bodies " << moved << " m apart" << pairText(a0, b0)
+            << (moved == 0.0 ? "\n  nothing moved: a small overlap must be resolved too" : "");
+    }
+}
+
 GRADED_TEST(Worksheet3, ResolveMassWeighted, 3,
             "resolveInterpenetration(): each body moves by a share of the depth proportional to its inverse mass, "
             "invMass / (invMass_a + invMass_b): the lighter body moves more, and the centre of mass of the pair "
