@@ -4,6 +4,7 @@ import io
 import json
 import os
 import pathlib
+import re
 import sys
 import tempfile
 import threading
@@ -59,6 +60,14 @@ def gradescope(results, seconds, hidden_visibility="after_published", notes=""):
     return data
 
 
+_NOT_XML = re.compile("[^\u0009\u000a\u000d\u0020-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _xml_text(text):
+    """Text that XML 1.0 can hold: what an engine printed may hold control characters."""
+    return _NOT_XML.sub("\ufffd", text)
+
+
 def junit(results, label):
     suites = ET.Element("testsuites", name=f"Game Physics Lab autograder ({label})")
     for ws in sorted({r["worksheet"] for r in results}):
@@ -73,10 +82,10 @@ def junit(results, label):
             ET.SubElement(case, "properties").append(
                 ET.Element("property", name="points", value=f"{r['score']:g}/{r['points']:g}"))
             if r.get("not_run"):
-                ET.SubElement(case, "skipped", message=r["output"])
+                ET.SubElement(case, "skipped", message=_xml_text(r["output"]))
             elif not r["passed"]:
-                failure = ET.SubElement(case, "failure", message=r["hint"])
-                failure.text = r["output"]
+                failure = ET.SubElement(case, "failure", message=_xml_text(r["hint"]))
+                failure.text = _xml_text(r["output"])
     return ET.tostring(suites, encoding="unicode", xml_declaration=True)
 
 
