@@ -437,6 +437,39 @@ GRADED_TEST(Worksheet6, ContactImpulseReversesNormalVelocityAtPoint, 3,
     }
 }
 
+GRADED_TEST(Worksheet6, ContactImpulseSkipsOnlySeparatingPoints, 2,
+            "applyContactImpulse() over several points: a point whose material points separate (v_rel >= 0) gets "
+            "nothing, and the loop goes on to the next point (continue, not break); a point after it that approaches "
+            "still gets its impulse.",
+            grading::dependsOn("ContactImpulseReversesNormalVelocityAtPoint")) {
+    Random rnd(625);
+    int tried = 0;
+    for (int i = 0; i < 300; ++i) {
+        Collision c = randomCollision(rnd, i, 1, restitutionFor(rnd, i));
+        const Vec3 approaching = c.contact.points[0];
+        // A first point where the two material points separate: the bodies turn, so the normal
+        // velocity differs from point to point.
+        bool found = false;
+        for (int k = 0; k < 50 && !found; ++k) {
+            const Vec3 p = approaching + rnd.inBox(1.0);
+            c.contact.points[0] = p;
+            found = normalAt(c, p) > 0.05 * speedScale(c);
+        }
+        if (!found) continue;
+        ++tried;
+        c.contact.points[1] = approaching;
+        c.contact.pointCount = 2;
+        const Collision before = c;
+        const double vn = normalAt(c, approaching), e = c.contact.restitution;
+        applyContactImpulse(c.contact, c.p.a, c.p.b);
+        // The separating point changed nothing, so the second point's velocity answers its own impulse alone.
+        ASSERT_NEAR(normalAt(c, approaching), -e * vn, 100.0 * kRounding * speedScale(before))
+            << "normal velocity at the second point, which approached at " << vn << " m/s after a first point that "
+            << "separates; with e = " << e << " it must become " << -e * vn << " m/s" << collisionText(before);
+    }
+    EXPECT_GT(tried, 30) << "too few configurations with a separating first point were drawn";
+}
+
 GRADED_TEST(Worksheet6, ContactImpulseConservesMomenta, 3,
             "applyContactImpulse(): at every point an impulse j n on b and -j n on a, both at that point, so linear "
             "momentum and angular momentum about any fixed point stay the same. Apply each point's impulse at the "
