@@ -174,6 +174,35 @@ GRADED_TEST(Worksheet7, BounceOnlyAboveRestingSpeed, 2,
     }
 }
 
+GRADED_TEST(Worksheet7, BounceKeptInLaterSweeps, 2,
+            "applyNormalImpulse() runs in every sweep: the bounce's target, -e times sum.approach, comes from the "
+            "approach when the stage began, never from the normal velocity now. After the first sweep the point "
+            "already leaves at -e approach; a second sweep must change nothing (a target from the velocity now "
+            "would take the bounce back).",
+            grading::dependsOn("BounceOnlyAboveRestingSpeed")) {
+    Random rnd(704);
+    int tried = 0;
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchMoving(rnd, i, -1.0);
+        t.contact.restitution = rnd.uniform(0.2, 1.0);
+        const double vn = normalVelocity(t);
+        if (vn > -1.1 * kRestingSpeed) continue;
+        ++tried;
+        t.sum.approach = vn;  // what the stage measured before the sweeps
+        const Touch before = t;
+        normalImpulse(t);  // the first sweep
+        const double first = t.sum.normal;
+        normalImpulse(t);  // the second
+        const double tol = 100.0 * kRounding * speedScale(before);
+        ASSERT_NEAR(normalVelocity(t), -t.contact.restitution * vn, tol)
+            << "normal velocity after two sweeps; the approach when the stage began was " << vn
+            << " m/s, so the point must leave at " << -t.contact.restitution * vn << " m/s" << touchText(before);
+        ASSERT_NEAR(t.sum.normal, first, tol / checks::inverseMassAlong(t.a, t.b, t.contact.points[0], t.contact.normal))
+            << "the second sweep changed the sum from " << first << " to " << t.sum.normal << " N s" << touchText(before);
+    }
+    EXPECT_GT(tried, 30) << "too few fast approaches were drawn";
+}
+
 // ---- applyFrictionImpulse() --------------------------------------------------------------------------
 
 GRADED_TEST(Worksheet7, FrictionStopsSlipAlongTangent, 3,
