@@ -296,6 +296,39 @@ GRADED_TEST(Worksheet7, StaticFrictionHoldsUpToMuS, 2,
     }
 }
 
+GRADED_TEST(Worksheet7, FrictionSumClampedWithoutSlip, 2,
+            "applyFrictionImpulse() at a point that no longer slips, after the normal sum shrank: the friction sum from "
+            "earlier sweeps may now lie outside the cone, |J| > mu_s j_n, and must be clamped to mu_d j_n (same "
+            "direction) even though there is no slip to stop. Clamp the sum whether or not the point slips.",
+            grading::dependsOn("SlidingFrictionIsMuDTimesNormal")) {
+    Random rnd(716);
+    for (int i = 0; i < 200; ++i) {
+        Touch t = checks::randomTouch(rnd, i);
+        // Both bodies at rest: the material points at the contact move alike, so nothing slips.
+        for (Body* b : {&t.a, &t.b}) {
+            b->velocity = Vec3::Zero();
+            b->angularVelocity = Vec3::Zero();
+        }
+        const Vec3 n = t.contact.normal;
+        t.sum.normal = rnd.uniform(0.1, 5.0);  // N s
+        const Vec3 dir = rnd.perpendicular(n);
+        t.sum.tangent = rnd.uniform(1.2, 3.0) * t.contact.staticFriction * t.sum.normal * dir;  // outside the cone
+        const Touch before = t;
+        frictionImpulse(t);
+        const Vec3 expected = t.contact.friction * t.sum.normal * dir;  // N s
+        const double tol = 100.0 * kRounding * (1.0 + before.sum.tangent.norm());
+        ASSERT_LE((t.sum.tangent - expected).norm(), tol)
+            << "the friction sum after the kernel is " << str(t.sum.tangent) << " N s; outside the cone it must become "
+            << "mu_d j_n along its own direction, " << str(expected) << " N s" << touchText(before);
+        if (!t.b.isStatic()) {
+            const Vec3 given = t.b.mass * (t.b.velocity - before.b.velocity);  // N s
+            ASSERT_LE((given - (t.sum.tangent - before.sum.tangent)).norm(), tol * (1.0 + t.b.mass))
+                << "b's momentum changed by " << str(given) << " N s; the sum changed by "
+                << str(t.sum.tangent - before.sum.tangent) << " N s" << touchText(before);
+        }
+    }
+}
+
 GRADED_TEST(Worksheet7, FrictionSumStaysInCone, 2,
             "applyFrictionImpulse() over many sweeps, the normal sum changing in between: the friction sum stays "
             "perpendicular to the normal and within mu_s j_n, and the bodies always hold exactly the sum (each call "
