@@ -273,6 +273,42 @@ GRADED_TEST(Worksheet7, SlidingFrictionIsMuDTimesNormal, 3,
     }
 }
 
+GRADED_TEST(Worksheet7, SlidingSumFromOldSumPlusStep, 2,
+            "applyFrictionImpulse() at a sliding point whose friction sum from earlier sweeps points another way than "
+            "the slip: the new sum is the old sum plus the impulse that would stop the slip, clamped to mu_d j_n along "
+            "that total, not along the slip; the bodies get the new sum minus the old.",
+            grading::dependsOn("SlidingFrictionIsMuDTimesNormal")) {
+    Random rnd(715);
+    int tried = 0;
+    for (int i = 0; i < 300; ++i) {
+        Touch t = touchSlipping(rnd, i);
+        const Vec3 n = t.contact.normal;
+        const Vec3 dir = slipOf(t).normalized();
+        const double stop = slipOf(t).norm() / checks::inverseMassAlong(t.a, t.b, t.contact.points[0], dir);  // N s
+        const Vec3 oldDir = rnd.perpendicular(n);
+        if (oldDir.cross(dir).norm() < 0.3) continue;  // the old sum clearly not along the slip
+        ++tried;
+        t.sum.tangent = rnd.uniform(0.5, 2.0) * stop * oldDir;
+        const Vec3 total = t.sum.tangent - stop * dir;  // N s, before the clamp
+        t.sum.normal = total.norm() / (t.contact.staticFriction * rnd.uniform(1.5, 3.0));  // it slides
+        const Touch before = t;
+        frictionImpulse(t);
+        const Vec3 expected = t.contact.friction * t.sum.normal * total.normalized();
+        const double tol = 100.0 * kRounding * (stop + before.sum.tangent.norm() + t.sum.normal);
+        ASSERT_LE((t.sum.tangent - expected).norm(), tol)
+            << "friction sum " << str(t.sum.tangent) << " N s, expected mu_d j_n along (old sum + step) = "
+            << str(expected) << " N s (the step that stops the slip: " << str(Vec3(-stop * dir)) << " N s)"
+            << touchText(before);
+        if (!t.b.isStatic()) {
+            const Vec3 given = t.b.mass * (t.b.velocity - before.b.velocity);
+            ASSERT_LE((given - (expected - before.sum.tangent)).norm(), tol * (1.0 + t.b.mass))
+                << "b's momentum changed by " << str(given) << " N s; the sum changed by "
+                << str(Vec3(expected - before.sum.tangent)) << " N s" << touchText(before);
+        }
+    }
+    EXPECT_GT(tried, 30) << "too few old sums across the slip were drawn";
+}
+
 GRADED_TEST(Worksheet7, StaticFrictionHoldsUpToMuS, 2,
             "applyFrictionImpulse(): a point sticks as long as the impulse that stops its slip stays within mu_s j_n "
             "(static friction), even when that is more than mu_d j_n. Compare with contact.staticFriction to decide, "
