@@ -215,6 +215,32 @@ GRADED_TEST(Worksheet2, VelocityVerletOneStep, 2,
         << "state.a after the step is " << str(s.a[0]) << ", expected a(x_1) = " << str(a1);
 }
 
+GRADED_TEST(Worksheet2, VelocityVerletDampingSeesHalfStep, 2,
+            "Velocity Verlet with a damped spring, a(x, v) = -k x - c v: the new accelerations are evaluated at the new "
+            "positions and the half-step velocity v_n + h/2 a_n (the first half kick comes before the force "
+            "evaluation), then v_{n+1} = v_{n+1/2} + h/2 a_{n+1} (worksheet 2, assignment 3).",
+            grading::dependsOn("VelocityVerletOneStep")) {
+    const double k = 4.0, c = 0.8;  // 1/s^2, 1/s
+    const AccelerationFunction damped = [&](const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                                            std::vector<Vec3>& a) {
+        a.resize(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) a[i] = -k * x[i] - c * v[i];
+    };
+    const Vec3 x0(0.5, -0.2, 0.1), v0(1.0, 2.0, -0.5);
+    const double h = 0.01;
+    ParticleState s = start(x0, v0, damped);
+    const Vec3 a0 = s.a[0];
+    velocityVerlet(s, damped, h);
+    const Vec3 x1 = x0 + h * v0 + 0.5 * h * h * a0;
+    const Vec3 half = v0 + 0.5 * h * a0;
+    const Vec3 a1 = -k * x1 - c * half;
+    const Vec3 v1 = half + 0.5 * h * a1;
+    // A few roundings of numbers of size 1: 1e-13; the old velocity in the force is off by c h/2 |a_n| h/2 ~ 1e-5.
+    EXPECT_LE((s.a[0] - a1).norm(), 1e-13) << "state.a after the step is " << str(s.a[0]) << ", expected a(x_1, v_n + h/2 a_n) = "
+                                          << str(a1);
+    EXPECT_LE((s.v[0] - v1).norm(), 1e-13) << "v_1 is " << str(s.v[0]) << ", expected " << str(v1);
+}
+
 GRADED_TEST(Worksheet2, VelocityVerletExactForFreeFall, 2,
             "Under constant gravity velocity Verlet is exact: check the h^2/2 in the position update.") {
     expectFreeFallExact(velocityVerlet);
