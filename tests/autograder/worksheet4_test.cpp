@@ -159,6 +159,25 @@ GRADED_TEST(Worksheet4, ImpulseEnergyLoss, 2,
     }
 }
 
+GRADED_TEST(Worksheet4, ImpulseChangesOnlyVelocities, 2,
+            "applyCollisionImpulse() changes velocities only: positions (and orientations) stay exactly where they "
+            "are. Overlaps are resolveInterpenetration()'s business, which runs as a stage of its own (worksheet 4, "
+            "assignment 2).",
+            grading::dependsOn("ImpulseReversesNormalVelocity")) {
+    Random rnd(407);
+    for (int i = 0; i < 300; ++i) {
+        Collision c = randomCollision(rnd, restitutionFor(rnd, i));
+        if (i % 4 == 3) c.a.makeStatic();
+        const Collision before = c;
+        applyCollisionImpulse(c.contact, c.a, c.b);
+        for (const auto& [now, old] : {std::pair{&c.a, &before.a}, std::pair{&c.b, &before.b}}) {
+            ASSERT_TRUE(now->position == old->position && now->orientation.coeffs() == old->orientation.coeffs())
+                << now->name << " moved from " << str(old->position) << " to " << str(now->position)
+                << ": an impulse changes velocities only" << pairText(before);
+        }
+    }
+}
+
 GRADED_TEST(Worksheet4, ImpulseNothingWhenSeparating, 2,
             "applyCollisionImpulse(): bodies that already move apart along the normal, (v_b - v_a) . n >= 0, get "
             "no impulse at all (a contact never pulls): return before changing anything.") {
