@@ -117,6 +117,30 @@ GRADED_TEST(Worksheet4, ImpulseReversesNormalVelocity, 3,
     }
 }
 
+GRADED_TEST(Worksheet4, ImpulseAnswersSlowApproaches, 2,
+            "applyCollisionImpulse() for two free bodies that approach slowly, from 1e-5 to 1e-2 m/s: any approach, "
+            "however slow, gets its impulse (-e times it afterwards); only a separating pair gets nothing. A threshold "
+            "below which nothing happens lets resting bodies sink into each other.",
+            grading::dependsOn("ImpulseReversesNormalVelocity")) {
+    Random rnd(408);
+    for (int i = 0; i < 300; ++i) {
+        Collision c = randomCollision(rnd, restitutionFor(rnd, i));
+        // Slow the approach down to 1e-5 .. 1e-2 m/s, evenly over the decades; the tangential parts stay.
+        const Vec3 n = c.contact.normal;
+        const double slow = -std::pow(10.0, rnd.uniform(-5.0, -2.0));
+        c.b.velocity += (slow - c.approach) * n;
+        c.approach = normalSpeed(c.contact, c.a, c.b);
+        const Collision before = c;
+        applyCollisionImpulse(c.contact, c.a, c.b);
+        const double after = normalSpeed(c.contact, c.a, c.b), e = c.contact.restitution;
+        // Speeds of a few m/s round to ~1e-15 m/s; the slowest approach is 1e-5 m/s.
+        ASSERT_NEAR(after, -e * before.approach, kRounding * speedScale(before) + 1e-6 * std::abs(before.approach))
+            << "normal velocity after the impulse; it was " << before.approach << " m/s, so with e = " << e
+            << " it must become " << -e * before.approach << " m/s" << pairText(before)
+            << (after == before.approach ? "\n  nothing happened: a slow approach needs its impulse too" : "");
+    }
+}
+
 GRADED_TEST(Worksheet4, ImpulseKeepsTangentialVelocity, 2,
             "applyCollisionImpulse(): without friction the impulse acts along the normal only, so each body's "
             "velocity across the normal stays as it was: change the velocities by multiples of n, computed from "
