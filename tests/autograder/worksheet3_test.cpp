@@ -200,10 +200,18 @@ GRADED_TEST(Worksheet3, SphereSphereSymmetric, 2,
 
 GRADED_TEST(Worksheet3, SphereSphereContactPoint, 2,
             "sphereSphere(): the contact point lies on the line of centres inside both spheres (for example "
-            "halfway between the two surfaces), in world coordinates; pointCount = 1 (Contact::at() sets it).") {
+            "halfway between the two surfaces), in world coordinates; pointCount = 1 (Contact::at() sets it). "
+            "When the smaller sphere lies within the larger, halfway between the surfaces can lie outside it: take "
+            "a point of the stretch inside both.") {
     Random rnd(305);
     for (int i = 0; i < 300; ++i) {
-        const auto [a, b] = spherePair(rnd, 0.02, 0.98);
+        auto [a, b] = spherePair(rnd, 0.02, 0.98);
+        if (i % 4 == 3) {  // the smaller sphere within the larger, off its centre
+            Body& small = a.radius < b.radius ? a : b;
+            const Body& large = a.radius < b.radius ? b : a;
+            small.radius = rnd.uniform(0.05, 0.3) * large.radius;
+            small.position = large.position + rnd.uniform(0.1, 0.9) * (large.radius - small.radius) * rnd.direction();
+        }
         const std::optional<Contact> c = sphereSphere(a, b);
         ASSERT_TRUE(c) << "no contact" << pairText(a, b);
         ASSERT_EQ(c->pointCount, 1) << "a sphere touches anything at one point" << pairText(a, b);
@@ -214,10 +222,11 @@ GRADED_TEST(Worksheet3, SphereSphereContactPoint, 2,
         const double tol = kRounding * scaleOf(a, b);
         ASSERT_LE((fromA - along * n).norm(), tol)
             << "the point " << str(c->points[0]) << " is off the line of centres" << pairText(a, b);
-        // Inside both spheres on that line: from b's surface (|ab| - r_b from a) to a's surface (r_a).
-        ASSERT_GE(along, ab.norm() - b.radius - tol)
+        // Inside both spheres on that line: within r_a of a's centre and within r_b of b's.
+        ASSERT_LE(std::abs(along - ab.norm()), b.radius + tol)
             << "the point " << str(c->points[0]) << " lies outside b" << pairText(a, b);
-        ASSERT_LE(along, a.radius + tol) << "the point " << str(c->points[0]) << " lies outside a" << pairText(a, b);
+        ASSERT_LE(std::abs(along), a.radius + tol) << "the point " << str(c->points[0]) << " lies outside a"
+                                                   << pairText(a, b);
     }
 }
 
