@@ -573,6 +573,29 @@ class Files(unittest.TestCase):
                              (ROOT / "assignments" / "simulation_timestep.cpp").read_text())
 
 
+    def test_symbolic_links_are_not_followed(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            tmp = pathlib.Path(tmp)
+            sub = tmp / "sub"
+            sub.mkdir()
+            (sub / "integrator.cpp").symlink_to(ROOT / "solutions" / "integrator.cpp")
+            (sub / "sphere_plane.cpp").write_text("// mine\n")
+            (sub / "everything").symlink_to("/")
+            missing, ignored, _ = building.prepare_submission(sub, tmp / "hooks")
+            self.assertIn("integrator.cpp", missing, "a hook file that is a link is graded as the stub")
+            self.assertEqual((tmp / "hooks" / "integrator.cpp").read_text(),
+                             (ROOT / "assignments" / "integrator.cpp").read_text())
+            self.assertEqual(ignored, ["everything", "integrator.cpp"])
+            (tmp / "link").symlink_to(ROOT / "solutions")
+            with self.assertRaisesRegex(grade.GradeError, "is a symbolic link"):
+                building.prepare_submission(tmp / "link", tmp / "hooks2")
+            whole = tmp / "lab"
+            whole.mkdir()
+            (whole / "assignments").symlink_to(ROOT / "solutions")
+            with self.assertRaisesRegex(grade.GradeError, "none of the hook files"):
+                building.prepare_submission(whole, tmp / "hooks3")
+
+
 class Hooks(unittest.TestCase):
     def test_stub_replaces_the_solution_block(self):
         text = "a\n    // BEGIN SOLUTION\n    secret();\n    // ELSE STUB\n    // notImplemented(\"x\");\n    // END SOLUTION\nb\n"
