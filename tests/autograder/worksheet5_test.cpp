@@ -275,6 +275,37 @@ GRADED_TEST(Worksheet5, BoxPlaneTilted, 3,
     }
 }
 
+GRADED_TEST(Worksheet5, BoxPlaneThinBoxKeepsDeepestFour, 2,
+            "boxPlane() for a thin box tilted into the plane so that six corners are behind it: a contact holds four, "
+            "the four deepest (sort the corners by height), not the first four found; the shallow ones at the raised "
+            "end carry nothing the deep end does not.",
+            grading::dependsOn("BoxPlaneTilted")) {
+    Random rnd(514);
+    for (int i = 0; i < 200; ++i) {
+        const Quat frame = rnd.rotation();  // the plane's and the box's common turn
+        Body pl = plane("plane", Vec3::UnitY()).rotated(frame).at(rnd.inBox(5.0));
+        const Vec3 n = checks::worldNormal(pl);
+        const double length = rnd.uniform(0.5, 1.5), thick = rnd.uniform(0.02, 0.08), width = rnd.uniform(0.3, 1.0);
+        // Tilted about its width so that the low end's four corners are deep and the raised end's lower two
+        // just behind the plane: six behind, the four deepest at the low end.
+        const double tilt = std::asin(std::min(0.5, rnd.uniform(2.5, 5.0) * thick / length));
+        const double shallow = -rnd.uniform(0.2, 0.8) * 2.0 * thick * std::cos(tilt);  // height of the raised end's lower corners
+        const double centre = shallow - length * std::sin(tilt) + thick * std::cos(tilt);
+        const Quat turn = frame * Quat(Eigen::AngleAxisd(rnd.uniform(0.0, 2.0 * M_PI), Vec3::UnitY())) *
+                          Quat(Eigen::AngleAxisd(-tilt, Vec3::UnitZ()));
+        Body bx = box("box", {length, thick, width}, 1.0).rotated(turn.normalized());
+        bx.at(pl.position + centre * n + rnd.uniform(0.0, 3.0) * rnd.perpendicular(n));
+        int behind = 0;
+        for (const Vec3& x : corners(bx)) behind += checks::heightAbove(pl, x) < 0.0;
+        ASSERT_EQ(behind, 6) << "the test's own box: " << behind << " corners behind the plane" << pairText(bx, pl);
+        const std::optional<Contact> c = boxPlane(bx, pl);
+        const double tol = kRounding * scaleOf(bx, pl);
+        ASSERT_TRUE(c) << "no contact for a box six corners deep into the plane" << pairText(bx, pl);
+        ASSERT_EQ(c->pointCount, 4) << "six corners are behind the plane: keep four" << pairText(bx, pl);
+        ASSERT_TRUE(pointsAtDeepCorners(*c, bx, pl, tol)) << pairText(bx, pl);
+    }
+}
+
 GRADED_TEST(Worksheet5, BoxPlaneApartOrTouching, 2,
             "boxPlane(): a box with no corner behind the plane has no contact (std::nullopt); neither has a box "
             "that exactly rests on it (corners at height 0 only touch it): count corners with height < 0.") {
@@ -413,6 +444,110 @@ Crossing crossingEdges(Random& rnd, double gap) {
     a.at({ca, 0.0, 0.0});
     b.at({0.0, std::sqrt(2.0) * (sa + sb) + gap, cb});
     return {checks::carried(a, R, t), checks::carried(b, R, t), R * Vec3::UnitY(), R * Vec3(0.0, std::sqrt(2.0) * sa, 0.0) + t};
+}
+
+// ---- Which four points: the overlap of two faces turned against each other -----------------------
+
+using Point2 = Eigen::Vector2d;
+
+// Twice the signed area of a polygon (its corners in order; counter-clockwise positive).
+double twiceArea(const std::vector<Point2>& poly) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Point2& p = poly[i];
+        const Point2& q = poly[(i + 1) % poly.size()];
+        s += p.x() * q.y() - q.x() * p.y();
+    }
+    return s;
+}
+
+// The part of a convex polygon where d . x <= limit.
+std::vector<Point2> clipped(const std::vector<Point2>& poly, const Point2& d, double limit) {
+    std::vector<Point2> out;
+    for (std::size_t i = 0; i < poly.size(); ++i) {
+        const Point2& p = poly[i];
+        const Point2& q = poly[(i + 1) % poly.size()];
+        const double sp = d.dot(p) - limit, sq = d.dot(q) - limit;
+        if (sp <= 0.0) out.push_back(p);
+        if ((sp < 0.0) != (sq < 0.0) && sp != sq) out.push_back(p + (sp / (sp - sq)) * (q - p));
+    }
+    return out;
+}
+
+// How far the centroid of `region` lies inside the convex hull of `points` (m; negative: outside).
+double centreMargin(std::vector<Point2> points, const std::vector<Point2>& region) {
+    Point2 centroid = Point2::Zero();
+    double area = 0.0;
+    for (std::size_t i = 0; i < region.size(); ++i) {
+        const Point2& p = region[i];
+        const Point2& q = region[(i + 1) % region.size()];
+        const double cross = p.x() * q.y() - q.x() * p.y();
+        area += cross;
+        centroid += cross * (p + q);
+    }
+    centroid /= 3.0 * area;
+    Point2 middle = Point2::Zero();
+    for (const Point2& p : points) middle += p / static_cast<double>(points.size());
+    std::sort(points.begin(), points.end(), [&](const Point2& p, const Point2& q) {
+        return std::atan2(p.y() - middle.y(), p.x() - middle.x()) < std::atan2(q.y() - middle.y(), q.x() - middle.x());
+    });
+    double margin = INFINITY;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+        const Point2& p = points[i];
+        const Point2& q = points[(i + 1) % points.size()];
+        const Point2 edge = q - p;
+        const double inside = (edge.x() * (centroid.y() - p.y()) - edge.y() * (centroid.x() - p.x())) / edge.norm();
+        margin = std::min(margin, inside);
+    }
+    return margin;
+}
+
+GRADED_TEST(Worksheet5, BoxBoxKeepsPointsThatSpanTheOverlap, 2,
+            "boxBox() for a box centred on another and turned about the normal by a generic angle: the clipped face is "
+            "an octagon of eight corners, and a contact holds four. Keep the deepest and three that span the rest (far "
+            "apart, around the overlap), so that the four surround the overlap's centre, where the box's weight acts; "
+            "the first four found lie side by side, on one half, and let the box tip.",
+            grading::dependsOn("BoxBoxStackPoints")) {
+    Random rnd(525);
+    int octagons = 0;
+    for (int i = 0; i < 300; ++i) {
+        const Body a = randomBox(rnd, "a");
+        const int k = i % 3, u = (k + 1) % 3, v = (k + 2) % 3;
+        const Vec3 h = a.halfExtents;
+        Vec3 halfB;
+        halfB[k] = rnd.uniform(0.2, 2.0);
+        halfB[u] = rnd.uniform(0.8, 1.25) * h[u];
+        halfB[v] = rnd.uniform(0.8, 1.25) * h[v];
+        const double angle = rnd.uniform(0.25, 1.3);  // rad, between a sixth and five sixths of a quarter turn
+        const double depth = rnd.uniform(0.001, 0.05) * std::min(h[k], halfB[k]);
+        const Body b = standingOn(a, k, 1.0, halfB, depth, angle, 0.0, 0.0);
+        const std::optional<Contact> c = boxBox(a, b);
+        ASSERT_TRUE(c) << "no contact, but b stands " << depth << " m deep on a's face" << pairText(a, b);
+        // The overlap of the two faces, in a's face plane: b's face (turned) cut to a's face.
+        const Vec3 eu = axis(a, u), ev = axis(a, v);
+        const auto in2 = [&](const Vec3& x) { return Point2(eu.dot(x - a.position), ev.dot(x - a.position)); };
+        std::vector<Point2> overlap;
+        for (const auto& [su, sv] : {std::pair{1.0, 1.0}, std::pair{-1.0, 1.0}, std::pair{-1.0, -1.0}, std::pair{1.0, -1.0}}) {
+            overlap.push_back(in2(b.position + su * halfB[u] * axis(b, u) + sv * halfB[v] * axis(b, v)));
+        }
+        overlap = clipped(overlap, Point2(1.0, 0.0), h[u]);
+        overlap = clipped(overlap, Point2(-1.0, 0.0), h[u]);
+        overlap = clipped(overlap, Point2(0.0, 1.0), h[v]);
+        overlap = clipped(overlap, Point2(0.0, -1.0), h[v]);
+        if (overlap.size() < 8) continue;  // fewer corners: four points hold most of them
+        ++octagons;
+        ASSERT_EQ(c->pointCount, 4) << "the overlap has " << overlap.size() << " corners: keep four" << pairText(a, b);
+        std::vector<Point2> kept;
+        for (int p = 0; p < c->pointCount; ++p) kept.push_back(in2(c->points[p]));
+        const double size = std::sqrt(std::abs(twiceArea(overlap)) / 2.0);  // m
+        // Inside by more than rounding: four corners that surround the centre keep it 2 % of the overlap's
+        // size or more inside; four side by side leave it outside or on their edge.
+        EXPECT_GT(centreMargin(kept, overlap), 1e-9 * size)
+            << "the overlap's centre lies outside the four points (by " << -centreMargin(kept, overlap)
+            << " m): keep points around the overlap, not side by side" << pairText(a, b);
+        if (HasFailure()) return;
+    }
+    EXPECT_GT(octagons, 50) << "too few overlaps with eight corners were drawn";
 }
 
 GRADED_TEST(Worksheet5, BoxBoxEdgeEdge, 3,
