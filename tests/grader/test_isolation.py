@@ -117,22 +117,24 @@ SUBMISSIONS = {
 # 150 MB/s, so the default 1024 MiB would take the growing cache longer than the 2 s time limit.
 MEMORY = 100
 
-# name -> {test: ("FAIL" | "not run", regex of its output)}; every test not named must pass.
+# name -> {test: ("FAIL" | "not run", regex of its output)}; every test not named must pass. The hook
+# named is the checker's call in flight: integrator() where the test asks for it alone, the whole
+# step where it asks for a step (the engine's own stack is not believed there).
 PASS = None
 EXPECTED = {
     "reference": {},
     "segfault": {
-        "Worksheet1.OneStepIsSemiImplicitEuler": ("FAIL", r"^crashed with SIGSEGV in integrator\(\)"),
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^crashed with SIGSEGV in integrator\(\)"),
+        "Worksheet1.OneStepIsSemiImplicitEuler": ("FAIL", r"^crashed with SIGSEGV in (integrator|simulationTimestep)\(\)"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^crashed with SIGSEGV in (integrator|simulationTimestep)\(\)"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.OneStepIsSemiImplicitEuler"),
         "Worksheet1Hidden.EnergyLossPerStepIsExact": ("not run", r"^not run: depends on Worksheet1.OneStep"),
     },
     "endless_loop": {
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^timed out after 2 s in integrator\(\)"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^timed out after 2 s in (integrator|simulationTimestep)\(\)"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
     },
     "endless_output": {
-        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^printed more than 1024 KiB of output in integrator\(\) "
+        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^printed more than 1024 KiB of output in (integrator|simulationTimestep)\(\) "
                                                        r"and was stopped; it began:\ndebug: x = "),
     },
     "nan": {
@@ -144,24 +146,24 @@ EXPECTED = {
     # In the sandbox the tests folder is not there to write into: the writes go nowhere.
     "writes_tests": {},
     "memory_hog": {
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", rf"^used more than {MEMORY} MiB of memory in integrator\(\) and was stopped"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", rf"^used more than {MEMORY} MiB of memory in (integrator|simulationTimestep)\(\) and was stopped"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
     },
     "forks": {
-        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^tried to start a process in integrator\(\), which graded "
+        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^tried to start a process in (integrator|simulationTimestep)\(\), which graded "
                                                        r"code may not do"),
     },
     "huge_file": {
-        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^wrote more than 64 MiB to a file in integrator\(\) and was "
+        "Worksheet1.MatchesDiscreteFreeFall": ("FAIL", r"^wrote more than 64 MiB to a file in (integrator|simulationTimestep)\(\) and was "
                                                        r"stopped"),
     },
     "threads": {
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^ran more than 8 threads at once in integrator\(\) and was stopped"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^ran more than 8 threads at once in (integrator|simulationTimestep)\(\) and was stopped"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.UsesEngineTimeStep"),
     },
     "network": {
-        "Worksheet1.OneStepIsSemiImplicitEuler": ("FAIL", r"^tried to open a network connection in integrator\(\)"),
-        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^tried to open a network connection in integrator\(\)"),
+        "Worksheet1.OneStepIsSemiImplicitEuler": ("FAIL", r"^tried to open a network connection in (integrator|simulationTimestep)\(\)"),
+        "Worksheet1.UsesEngineTimeStep": ("FAIL", r"^tried to open a network connection in (integrator|simulationTimestep)\(\)"),
         "Worksheet1.MatchesDiscreteFreeFall": ("not run", r"^not run: depends on Worksheet1.OneStepIsSemiImplicitEuler"),
         "Worksheet1Hidden.EnergyLossPerStepIsExact": ("not run", r"^not run: depends on Worksheet1.OneStep"),
     },

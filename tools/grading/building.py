@@ -79,6 +79,7 @@ class TrustedBuild:
         self.link = self._link_command()
 
     def _compile_flags(self, argv):
+        self.include_dir = ROOT / "framework" / "include"
         compiler = shutil.which(argv[0]) or argv[0]
         compiler = os.path.realpath(compiler)  # /usr/bin/c++ is a link through /etc/alternatives
         flags, pch = [], None
@@ -99,7 +100,9 @@ class TrustedBuild:
             if a.startswith("-I"):
                 path = a[2:] or argv[i + 1]
                 step = 1 if a[2:] else 2
-                if pathlib.Path(path).resolve() == (ROOT / "framework" / "include").resolve():
+                if pathlib.Path(path).resolve() == (ROOT / "framework" / "include").resolve() or \
+                        pathlib.Path(path).parts[-2:] == ("framework", "include"):
+                    self.include_dir = pathlib.Path(path).resolve()
                     flags.append(f"-I{INCLUDE}")
                 elif not str(pathlib.Path(path).resolve()).startswith(str(ROOT)):
                     flags += [a] if step == 1 else [a, argv[i + 1]]
@@ -179,7 +182,7 @@ class TrustedBuild:
         if self.pch:
             st = (self.pch / "cmake_pch.hxx.gch").stat()
             h.update(f"{st.st_size}:{st.st_mtime_ns}".encode())
-        headers = ROOT / "framework" / "include"
+        headers = self.include_dir
         for p in sorted(headers.rglob("*")):
             if p.is_file():
                 st = p.stat()
@@ -257,7 +260,7 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
         (tmp / "src" / name).write_bytes(source)
         errors = None
         if Sandbox.here().isolated:
-            binds = {ROOT / "framework" / "include": INCLUDE, tmp / "src": SOURCES}
+            binds = {trusted.include_dir: INCLUDE, tmp / "src": SOURCES}
             if trusted.pch:
                 binds[trusted.pch] = PCH
             argv = [trusted.compiler, *trusted.flags, "-o", f"{OUT}/hook.o", "-c", name]
@@ -265,10 +268,10 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
         else:
             # Without the sandbox: the same flags with the host's paths; the includes it read and the
             # assembler directives it wrote are checked, so that it reads nothing of the lab either.
-            flags = [f.replace(INCLUDE, str(ROOT / "framework" / "include")).replace(PCH, str(trusted.pch))
+            flags = [f.replace(INCLUDE, str(trusted.include_dir)).replace(PCH, str(trusted.pch))
                      for f in trusted.flags]
             # The includes first (preprocessing only), so that no message shows a line of what is outside.
-            allowed = [pathlib.Path("/usr"), ROOT / "framework" / "include", tmp / "src"] + \
+            allowed = [pathlib.Path("/usr"), trusted.include_dir, tmp / "src"] + \
                       ([trusted.pch] if trusted.pch else [])
             rc, out, why = _limited([trusted.compiler, *flags, "-M", "-MF", str(tmp / "out" / "hook.d"), name],
                                     {}, {}, COMPILE_LIMITS, launcher, str(tmp / "src"))
@@ -337,7 +340,13 @@ def link_engine(trusted, objects, target, launcher):
         rc, out, why = _limited(argv, binds, {tmp / "out": OUT}, LINK_LIMITS, launcher, "/tmp")
         made = tmp / "out" / "engine" if Sandbox.here().isolated else tmp / "engine"
         if rc != 0 or why or not made.exists():
-            return (first_errors(out) or out.strip()[-2000:] or f"the linker was stopped ({why})")
+            # The linker names objects: each is a hook file, in the order of the list.
+            for i, hook in enumerate(hooks.hook_files()):
+                out = out.replace(f"{OBJECTS}/{i:02d}.o", hook).replace(str(tmp / "obj" / f"{i:02d}.o"), hook)
+            lines = out.strip().splitlines()
+            picked = [l for l in lines if "undefined reference" in l or "multiple definition" in l][:10]
+            picked += [l for l in lines if "error:" in l][:3]
+            return "\n".join(picked) or out.strip()[-2000:] or f"the linker was stopped ({why})"
         os.replace(made, target)
         return None
 

@@ -100,6 +100,10 @@ class TestCgroup:
         text = _read(self.memory_dir / name).strip()
         return text.isdigit() and int(text) > share * self.limits.memory_mib * MIB
 
+    def threads_refused(self):
+        """Whether the kernel has refused the test a thread or process (pids.max reached)."""
+        return _counter(_read(self.pids_dir / "pids.events"), "max") > 0
+
     def peak_mib(self):
         name = "memory.max_usage_in_bytes" if self.kind == "v1" else "memory.peak"
         text = _read(self.memory_dir / name).strip()

@@ -182,6 +182,24 @@ def hook_names():
     return names
 
 
+def hook_worksheets():
+    """{"integrator()": 1, "sphereSphere()": 3, ...}: the worksheet of each hook (its file's head)."""
+    found = {}
+    for f in hooks.hook_files():
+        path = ROOT / "assignments" / f
+        if not path.is_file():
+            continue
+        text = path.read_text(errors="replace")
+        m = re.search(r"Worksheet (\d+)", text)
+        if not m:
+            continue
+        for function in re.findall(r"PhysicsEngine::(\w+)\(", text):
+            found[function + "()"] = int(m.group(1))
+        for hook in re.findall(r'[nN]otImplemented\("([^"]+)"\)', text):
+            found[hook] = int(m.group(1))
+    return found
+
+
 def _demangle(symbols):
     if not symbols or shutil.which("c++filt") is None:
         return symbols
@@ -369,10 +387,12 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
                 result.why = watch(runner)
                 if result.why:
                     break
-            if group is not None and result.runner_rc is None and group.near_memory_limit():
-                # Stopped just before the kernel would kill it, so that it can say where it was.
-                result.why = "memory"
-                break
+            if group is not None and result.runner_rc is None:
+                # Stopped just before the kernel would kill it (memory), or once the kernel refused
+                # it a thread, so that it can say where it was.
+                result.why = "memory" if group.near_memory_limit() else "threads" if group.threads_refused() else None
+                if result.why:
+                    break
             # Often enough to stop a growing engine before the kernel's memory limit (no call stack then).
             time.sleep(0.005 if group is not None or time.monotonic() - start < 0.2 else 0.02)
         if result.why is not None:
@@ -465,8 +485,10 @@ def _checker_status(folder):
             except json.JSONDecodeError:
                 continue
             if isinstance(e, dict):
+                stages = e.get("hooks")
                 events.append((e.get("event"), e.get("call") if isinstance(e.get("call"), str) else None,
-                               e.get("detail") if isinstance(e.get("detail"), str) else ""))
+                               e.get("detail") if isinstance(e.get("detail"), str) else "",
+                               [h for h in stages if isinstance(h, str)] if isinstance(stages, list) else None))
     return events
 
 
@@ -475,15 +497,17 @@ def _checker_status(folder):
 WHOLE_STEP = "simulationTimestep()"
 
 
-def blamed_hook(call, trace, output):
-    """The hook named in a message: the call the checker had in flight (trusted), refined by the
-    engine's own call stack or failed assert only within a whole step; None when the checker had
-    no call in flight."""
+def blamed_hook(call, trace, output, test=None, stages=None):
+    """The hook named in a message: the call the checker had in flight (trusted). Within a whole
+    step, the engine's own call stack or failed assert may name the stage that was running, but only
+    among the stages the checker lists for that step (`stages`): a hook that writes a stack of its
+    own never gets another hook blamed. None when the checker had no call in flight."""
     if not call:
         return None
-    if call == WHOLE_STEP:
-        return hook_in_trace(trace, output) or call
-    return call
+    if call != WHOLE_STEP or not stages:
+        return call
+    named = hook_in_trace(trace, output)
+    return named if named in stages else call
 
 
 FORBIDDEN = {
@@ -566,10 +590,11 @@ def verdict(test, pair, limits, folder, isolated=None):
     test failed, naming the hook the checker had in flight."""
     isolated = sandbox.Sandbox.here().isolated if isolated is None else isolated
     events = _checker_status(folder)
-    waiting = [call for event, call, _ in events if event == "waiting"]
-    ended = [(call, detail) for event, call, detail in events if event == "ended"]
-    call = waiting[-1] if waiting else (ended[0][0] if ended else None)
-    hook = blamed_hook(call, pair.trace, pair.output)
+    waiting = [(call, stages) for event, call, _, stages in events if event == "waiting"]
+    ended = [(call, detail) for event, call, detail, _ in events if event == "ended"]
+    stages = next((st for event, call, _, st in reversed(events) if st is not None), None)
+    call = waiting[-1][0] if waiting else (ended[0][0] if ended else None)
+    hook = blamed_hook(call, pair.trace, pair.output, test, stages)
     where = f" in {hook}" if hook else ""
     out = pair.output
     tail = "\n".join([l for l in out.strip().splitlines() if not GTEST_LINE.match(l)][-8:])
