@@ -645,9 +645,13 @@ def verdict(test, pair, limits, folder, isolated=None):
     if ended:
         # The engine left the call (exited) or answered something that is no answer: the checker says which.
         _, detail = ended[0]
+        # The checker's own words name the call already ("... stopped answering during X: why").
+        detail = re.sub(r"^the submission's code (stopped answering|answered nonsense) during [\w:]+\(\):?\s*",
+                        lambda m: "it " + m.group(1) + (": " if m.group(1) == "answered nonsense" else ""),
+                        detail or "it stopped").rstrip(": ")
         rc = pair.runner_rc
         status = f" (it exited with status {rc})" if rc and not pair.killed and rc > 0 and (not isolated or rc < 128) else ""
-        return False, f"the engine did not answer{where}: {detail or 'it stopped'}{status}\n{tail}".strip()
+        return False, f"the engine did not answer{where}: {detail}{status}\n{tail}".strip()
     if report is None:
         own = (folder / "checker.txt").read_text(errors="replace").strip().splitlines()[-5:] \
             if (folder / "checker.txt").exists() else []
