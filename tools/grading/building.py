@@ -202,7 +202,12 @@ class Compiled:
 def _limited(argv, binds, writable, limits, launcher, cwd):
     """Runs a compiler or linker in the sandbox, within limits; (returncode, output, why)."""
     here = Sandbox.here()
-    group = Cgroups.here().make(limits, extra_processes=0) if Cgroups.here().available else None
+    group = None
+    if Cgroups.here().available:
+        try:
+            group = Cgroups.here().make(limits, extra_processes=0)
+        except OSError:
+            group = None
     try:
         inner = list(argv)
         if group is None:  # no cgroup: the address space is the memory limit

@@ -321,7 +321,12 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
     sandbox_here = sandbox_here or sandbox.Sandbox.here()
     cgroups = cgroups or Cgroups.here()
     folder = pathlib.Path(folder)
-    group = cgroups.make(limits) if cgroups.available else None
+    group = None
+    if cgroups.available:
+        try:
+            group = cgroups.make(limits)
+        except OSError:  # the machine's cgroups are full or gone: the grader watches instead
+            group = None
     result = Pair()
     pipes = []
     try:
