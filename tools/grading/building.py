@@ -13,6 +13,7 @@ import pathlib
 import re
 import shlex
 import shutil
+import stat
 import subprocess
 import tempfile
 import threading
@@ -380,8 +381,7 @@ def _regular(path):
         st = os.lstat(path)
     except OSError:
         return False
-    import stat as stat_module
-    return stat_module.S_ISREG(st.st_mode)
+    return stat.S_ISREG(st.st_mode)
 
 
 def prepare_submission(source, hooks_dir):
