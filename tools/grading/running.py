@@ -30,8 +30,8 @@ def run_limited(cmd, timeout, cap=OUTPUT_CAP, cwd=None, env=None, warn_signal=No
     and names a limit the running command broke (or None). At a limit the processes below cmd first
     get warn_signal (if given) and TRACE_GRACE seconds to report where they were, then every one of
     them is killed."""
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=cwd, env=env,
-                            start_new_session=True)
+    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, cwd=cwd,
+                            env=env, start_new_session=True)
     chunks, size, why = [], 0, [None]
     stopped = threading.Event()
 
