@@ -124,6 +124,7 @@ static void handler(int s, siginfo_t* info, void* c) {
     signal(s, SIG_DFL); raise(s);
 }
 static void* sleeper(void* a) { sleep(10); return a; }
+static void* napper(void* a) { usleep(300000); return a; }
 static int recurse(int n) { volatile char buf[4096]; buf[0] = n; return recurse(n + 1) + buf[0]; }
 __attribute__((constructor)) static void init(void) {
     const char* p = getenv("GPL_GRADER_TRACE");
@@ -153,6 +154,7 @@ int main(int argc, char** argv) {
         else if (!strcmp(word, "stack")) { stacky = 1; recurse(0); }
         else if (!strcmp(word, "fakestack")) { fakestack = 1; *(volatile int*)0 = 1; }
         else if (!strcmp(word, "nonsense")) { write(4, "nonsense\n", 9); continue; }
+        else if (!strcmp(word, "eight")) { pthread_t t[7]; for (int i = 0; i < 7; ++i) if (pthread_create(&t[i], 0, napper, 0)) abort(); for (int i = 0; i < 7; ++i) pthread_join(t[i], 0); }
         else if (!strcmp(word, "survive")) { /* a detached thread that tries to outlive the test */ pthread_t t; pthread_create(&t, 0, sleeper, 0); }
         write(4, "ok\n", 3);
     }

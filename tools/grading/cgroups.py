@@ -19,7 +19,7 @@ import time
 MIB = 1 << 20
 ROOT = pathlib.Path("/sys/fs/cgroup")
 # bubblewrap's own processes (its parent and the sandbox's init) besides the test's threads.
-SANDBOX_PROCESSES = 3
+SANDBOX_PROCESSES = 2
 
 
 def _own_paths():

@@ -324,7 +324,8 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
     group = None
     if cgroups.available:
         try:
-            group = cgroups.make(limits)
+            # bubblewrap's own two processes (its parent and the sandbox's init) besides the engine's threads
+            group = cgroups.make(limits, extra_processes=2 if sandbox_here.isolated else 0)
         except OSError:  # the machine's cgroups are full or gone: the grader watches instead
             group = None
     result = Pair()
