@@ -22,6 +22,8 @@
 
 #include <gtest/gtest.h>
 
+#include "../grading/protocol.h"
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -64,6 +66,15 @@ inline Option hidden() { return {Option::Kind::Hidden, 0.0, nullptr}; }
 /// changes it) and returns false to stop there. A body no longer finite, or a hook's exception,
 /// throws as step() does. For long runs checked after every step.
 void steps(PhysicsEngine& engine, int n, const std::function<bool(int)>& each);
+
+/// positionVerlet or velocityVerlet, as graded tests call them.
+using IntegratorKernel = void (*)(ParticleState&, const AccelerationFunction&, double);
+
+/// Takes n steps of h with the kernel from `state` under `force`, as n calls of kernel(state, force,
+/// h) would, with one request to the submission's engine for many steps (it evaluates the force
+/// itself); after step k (1..n) calls each(k), which reads `state` and returns false to stop there.
+void integratorSteps(IntegratorKernel kernel, ParticleState& state, const LinearForce& force, double h, int n,
+                     const std::function<bool(int)>& each);
 
 /// Registers a graded test; returns true so it can initialise a static.
 bool registerTest(const char* suite, const char* name, double points, const char* hint,

@@ -107,14 +107,18 @@ protected:
         const double e0 = oscillatorEnergy(s);
         double firstTenth = 0.0, lastTenth = 0.0;
         int crossings = 0;
-        for (int i = 0; i < n; ++i) {
-            const double before = s.x[0].x();
-            kernel(s, spring, h);
+        double before = s.x[0].x();
+        grading::LinearForce oscillator;
+        oscillator.k = kOmega * kOmega;  // spring()'s force, evaluated by the submission's engine
+        grading::integratorSteps(kernel, s, oscillator, h, n, [&](int k) {
+            const int i = k - 1;
             if ((before > 0.0) != (s.x[0].x() > 0.0)) ++crossings;
+            before = s.x[0].x();
             const double deviation = std::abs(oscillatorEnergy(s) / e0 - 1.0);
             if (i < n / 10) firstTenth = std::max(firstTenth, deviation);
             if (i >= n - n / 10) lastTenth = std::max(lastTenth, deviation);
-        }
+            return true;
+        });
         // Two zero crossings per period: n h omega / pi = 1.6e4 (Verlet runs 1 % fast at h omega = 0.5).
         const double expected = n * h * kOmega / M_PI;
         EXPECT_GT(crossings, 0.9 * expected) << "the oscillator crossed zero " << crossings << " times in " << n

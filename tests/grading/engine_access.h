@@ -163,24 +163,28 @@ struct EngineAccess {
     }
 
     /// Bytes of a body's motion on the pipe.
-    static constexpr std::size_t kMotionBytes = 19 * sizeof(double);
+    static constexpr std::size_t kMotionBytes = 22 * sizeof(double);
     static void writeMotion(grading::Writer& w, const Body& b) {
-        w.vec3(b.position);
-        w.vec3(b.velocity);
-        w.vec3(b.acceleration);
-        w.vec3(b.angularVelocity);
-        w.quat(b.orientation);
-        w.vec3(b.force);
-        w.vec3(b.torque);
+        double m[19];
+        std::memcpy(m, b.position.data(), 3 * sizeof(double));
+        std::memcpy(m + 3, b.velocity.data(), 3 * sizeof(double));
+        std::memcpy(m + 6, b.acceleration.data(), 3 * sizeof(double));
+        std::memcpy(m + 9, b.angularVelocity.data(), 3 * sizeof(double));
+        std::memcpy(m + 12, b.orientation.coeffs().data(), 4 * sizeof(double));
+        std::memcpy(m + 16, b.force.data(), 3 * sizeof(double));
+        w.numbers(m, 19);
+        w.numbers(b.torque.data(), 3);
     }
     static void readMotion(grading::Reader& r, Body& b) {
-        b.position = r.vec3();
-        b.velocity = r.vec3();
-        b.acceleration = r.vec3();
-        b.angularVelocity = r.vec3();
-        b.orientation = r.quat();
-        b.force = r.vec3();
-        b.torque = r.vec3();
+        double m[22];
+        r.numbers(m, 22);
+        std::memcpy(b.position.data(), m, 3 * sizeof(double));
+        std::memcpy(b.velocity.data(), m + 3, 3 * sizeof(double));
+        std::memcpy(b.acceleration.data(), m + 6, 3 * sizeof(double));
+        std::memcpy(b.angularVelocity.data(), m + 9, 3 * sizeof(double));
+        std::memcpy(b.orientation.coeffs().data(), m + 12, 4 * sizeof(double));
+        std::memcpy(b.force.data(), m + 16, 3 * sizeof(double));
+        std::memcpy(b.torque.data(), m + 19, 3 * sizeof(double));
     }
 
     /// True when the two engines' bodies and last positions are the same to the bit.

@@ -10,11 +10,13 @@
 
 #include "engine_access.h"
 #include "gpl/collision.h"
+#include "gpl/integrators.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"
 #include "gpl/rotation.h"
 #include "gpl/scenes.h"
 #include "submission.h"
+#include "../autograder/graded.h"
 
 namespace gpl {
 namespace {
@@ -39,7 +41,7 @@ void engineCall(Call call, PhysicsEngine& mirror) {
     w.u8(fresh ? 1 : 0);
     EngineAccess::writeWorld(w, mirror, send);
     heldFor = nullptr;  // until the answer is read whole: a hook that throws leaves its engine as it was then
-    const std::string answer = grading::request(call, w.bytes());
+    const std::string& answer = grading::request(call, w.bytes());
     grading::parseAnswer(call, answer, [&](Reader& r) { EngineAccess::readChanges(r, mirror); });
     for (const std::string& hook : grading::openHooksOfLastAnswer()) mirror.notImplemented(hook);
     heldBodies = EngineAccess::bodies(mirror);
@@ -67,7 +69,9 @@ void steps(PhysicsEngine& mirror, int n, const std::function<bool(int)>& each) {
         w.u32(static_cast<std::uint32_t>(asked));
         EngineAccess::writeWorld(w, mirror, send);
         heldFor = nullptr;  // until every step of the answer has been taken
-        const std::string answer = request(Call::Steps, w.bytes());
+        // Its own copy of the answer (memory kept from batch to batch): each(k) may ask for hooks too.
+        static std::string answer;
+        answer = request(Call::Steps, w.bytes());
         Reader r(answer, 1);
         std::uint32_t done = 0;
         std::uint8_t threw = 0, kind = 0;
@@ -111,6 +115,61 @@ void steps(PhysicsEngine& mirror, int n, const std::function<bool(int)>& each) {
     }
 }
 
+void integratorSteps(IntegratorKernel kernel, ParticleState& state, const LinearForce& force, double h, int n,
+                     const std::function<bool(int)>& each) {
+    const Call which = kernel == &positionVerlet ? Call::PositionVerlet : Call::VelocityVerlet;
+    if (kernel != &positionVerlet && kernel != &velocityVerlet) {
+        throw std::invalid_argument("integratorSteps(): positionVerlet or velocityVerlet");
+    }
+    const std::size_t particles = state.x.size();
+    const std::size_t perStep = 100 * std::max<std::size_t>(1, particles) + 16;
+    const int batch = static_cast<int>(std::clamp<std::size_t>((1u << 20) / perStep, 1, 5000));
+    int k = 0;
+    while (k < n) {
+        const int asked = std::min(batch, n - k);
+        Writer w;
+        w.u8(static_cast<std::uint8_t>(which));
+        w.particles(state);
+        w.vec3(force.g);
+        w.number(force.k);
+        w.number(force.c);
+        w.number(h);
+        w.u32(static_cast<std::uint32_t>(asked));
+        static std::string answer;  // its own copy: each(k) may ask for hooks too
+        answer = request(Call::IntegratorSteps, w.bytes());
+        Reader r(answer, 1);
+        std::uint8_t threw = 0, kind = 0;
+        std::string message;
+        try {
+            const std::uint32_t done = r.u32();
+            if (done > static_cast<std::uint32_t>(asked)) throw ProtocolError("more steps than were asked for");
+            for (std::uint32_t s = 0; s < done; ++s) {
+                ParticleState next = r.particles();
+                if (next.x.size() != particles || next.v.size() != particles || next.a.size() != particles ||
+                    (!next.xPrev.empty() && next.xPrev.size() != particles)) {
+                    throw ProtocolError("the kernel answered with another number of particles");
+                }
+                state = std::move(next);
+                ++k;
+                if (!each(k)) return;
+            }
+            threw = r.u8();
+            if (threw > 1) throw ProtocolError("an answer that neither threw nor did not");
+            if (threw) {
+                kind = r.u8();
+                if (kind < 1 || kind >= static_cast<std::uint8_t>(Thrown::End)) throw ProtocolError("an unknown exception");
+                message = r.text();
+            }
+            r.texts();
+            r.end();
+            if (done == 0 && !threw) throw ProtocolError("no step was made");
+        } catch (const ProtocolError& e) {
+            endNow(which, e.what());
+        }
+        if (threw) rethrow(static_cast<Thrown>(kind), message);
+    }
+}
+
 }  // namespace grading
 
 namespace {
@@ -138,10 +197,11 @@ void particleCall(Call call, ParticleState& state, const AccelerationFunction& a
     Writer w;
     w.particles(state);
     w.number(h);
-    const std::size_t n = state.x.size();
-    grading::parseAnswer(call, grading::request(call, w.bytes(), &accel, n), [&](Reader& r) {
+    const std::size_t particles = state.x.size();
+    grading::parseAnswer(call, grading::request(call, w.bytes(), &accel, particles), [&](Reader& r) {
         ParticleState s = r.particles();
-        if (s.x.size() != n || s.v.size() != n || s.a.size() != n || (!s.xPrev.empty() && s.xPrev.size() != n)) {
+        if (s.x.size() != particles || s.v.size() != particles || s.a.size() != particles ||
+            (!s.xPrev.empty() && s.xPrev.size() != particles)) {
             throw grading::ProtocolError("the kernel answered with another number of particles");
         }
         state = std::move(s);

@@ -131,9 +131,9 @@ AccelerationFunction askChecker(std::size_t n) {
         w.vec3s(x);
         w.vec3s(v);
         if (!sendFrame(kOut, w.bytes())) std::_Exit(0);
-        const auto frame = receiveFrame(kIn);
-        if (!frame) std::_Exit(0);
-        Reader r(*frame);
+        std::string frame;
+        if (!receiveFrame(kIn, frame)) std::_Exit(0);
+        Reader r(frame);
         if (r.u8() != static_cast<std::uint8_t>(Frame::Accelerations)) throw ProtocolError("expected accelerations");
         a = r.vec3s();
         r.end();
@@ -194,6 +194,56 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
                 out.texts(openHooks(e));
                 EngineAccess::advanceClock(e);
                 if (!e.allFinite()) {
+                    ++done;
+                    break;
+                }
+            }
+            out.patchU32(countAt, done);
+            out.append(failure);
+            return;
+        }
+        case Call::IntegratorSteps: {
+            // Steps of positionVerlet() or velocityVerlet() under a force evaluated here; each step's
+            // state answered. The first exception, or a state no longer finite, ends them.
+            const std::uint8_t which = in.u8();
+            if (which != static_cast<std::uint8_t>(Call::PositionVerlet) &&
+                which != static_cast<std::uint8_t>(Call::VelocityVerlet)) {
+                throw ProtocolError("steps of an unknown integrator");
+            }
+            ParticleState s = in.particles();
+            LinearForce force;
+            force.g = in.vec3();
+            force.k = in.number();
+            force.c = in.number();
+            const double h = in.number();
+            const std::uint32_t n = in.u32();
+            in.end();
+            const AccelerationFunction accel = force;
+            const std::size_t countAt = out.size();
+            out.u32(0);
+            std::uint32_t done = 0;
+            Writer failure;
+            failure.u8(0);
+            for (; done < n; ++done) {
+                try {
+                    if (which == static_cast<std::uint8_t>(Call::PositionVerlet)) {
+                        positionVerlet(s, accel, h);
+                    } else {
+                        velocityVerlet(s, accel, h);
+                    }
+                } catch (const std::exception& ex) {
+                    failure.clear();
+                    failure.u8(1);
+                    failure.u8(static_cast<std::uint8_t>(kindOf(ex)));
+                    failure.text(ex.what());
+                    break;
+                }
+                out.particles(s);
+                bool finite = true;
+                for (const auto* list : {&s.x, &s.v, &s.a}) {
+                    for (const Vec3& x : *list) finite = finite && x.allFinite();
+                }
+                if (!finite) {
                     ++done;
                     break;
                 }
@@ -299,7 +349,7 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
 }
 
 void thrown(Writer& out, Thrown kind, const std::string& what, const PhysicsEngine& engine) {
-    out = Writer();
+    out.clear();
     out.u8(static_cast<std::uint8_t>(Frame::Thrown));
     out.u8(static_cast<std::uint8_t>(kind));
     out.text(what);
@@ -308,13 +358,14 @@ void thrown(Writer& out, Thrown kind, const std::string& what, const PhysicsEngi
 
 int serve() {
     auto held = std::make_unique<PhysicsEngine>();
+    std::string frame;  // the request and the answer keep their memory from one request to the next
+    Writer out;
     while (true) {
-        const auto frame = receiveFrame(kIn);
-        if (!frame) return 0;  // the checker is done
-        Reader in(*frame);
+        if (!receiveFrame(kIn, frame)) return 0;  // the checker is done
+        Reader in(frame);
         if (in.u8() != static_cast<std::uint8_t>(Frame::Request)) throw ProtocolError("expected a request");
         const auto call = static_cast<Call>(in.u8());
-        Writer out;
+        out.clear();
         try {
             out.u8(static_cast<std::uint8_t>(Frame::Answer));
             answer(call, in, out, held);

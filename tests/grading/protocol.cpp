@@ -31,6 +31,7 @@ const char* callName(Call call) {
         case Call::ApplyFrictionImpulse: return "applyFrictionImpulse()";
         case Call::ApplyWarmStart: return "applyWarmStart()";
         case Call::Steps: return "simulationTimestep()";
+        case Call::IntegratorSteps: return "an integrator kernel";
         case Call::End: break;
     }
     return "an unknown hook";
@@ -295,15 +296,15 @@ bool sendFrame(int fd, const std::string& bytes) {
     return writeAll(fd, head, sizeof head) && writeAll(fd, bytes.data(), bytes.size());
 }
 
-std::optional<std::string> receiveFrame(int fd) {
+bool receiveFrame(int fd, std::string& bytes) {
     std::uint32_t n = 0;
     const std::size_t got = readAll(fd, reinterpret_cast<char*>(&n), sizeof n);
-    if (got == 0) return std::nullopt;
+    if (got == 0) return false;
     if (got < sizeof n) throw ProtocolError("a message was cut short");
     if (n > kMaxFrameBytes) throw ProtocolError("a message of " + std::to_string(n) + " bytes, more than allowed");
-    std::string bytes(n, '\0');
+    bytes.resize(n);
     if (readAll(fd, bytes.data(), n) < n) throw ProtocolError("a message was cut short");
-    return bytes;
+    return true;
 }
 
 }  // namespace gpl::grading

@@ -51,8 +51,9 @@ enum class Call : std::uint8_t {
     ApplyNormalImpulse,
     ApplyFrictionImpulse,
     ApplyWarmStart,
-    Steps,  ///< whole steps of the engine, simulationTimestep() in each (graded.h: grading::steps())
-    End     ///< one past the last
+    Steps,            ///< whole steps of the engine, simulationTimestep() in each (graded.h: grading::steps())
+    IntegratorSteps,  ///< steps of an integrator kernel under a LinearForce (graded.h: grading::integratorSteps())
+    End               ///< one past the last
 };
 
 /// The hook as a student knows it: "integrator()".
@@ -70,6 +71,19 @@ enum class Frame : std::uint8_t {
 /// What a hook threw, so that the checker throws the same kind.
 enum class Thrown : std::uint8_t { Other = 1, Simulation, InvalidArgument, OutOfRange, BadAlloc, End };
 
+/// A force the submission's engine can evaluate itself, a(x, v) = g - k x - c v for every particle
+/// (gravity, a spring to the origin, damping), so that a run of integrator steps needs no request
+/// per evaluation. Callable as an AccelerationFunction.
+struct LinearForce {
+    Vec3 g = Vec3::Zero();  ///< m/s^2
+    double k = 0.0;         ///< 1/s^2
+    double c = 0.0;         ///< 1/s
+    void operator()(const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& a) const {
+        a.resize(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) a[i] = g - k * x[i] - c * (i < v.size() ? v[i] : Vec3::Zero());
+    }
+};
+
 /// Largest frame either side accepts: a hundred thousand bodies.
 constexpr std::uint32_t kMaxFrameBytes = 256u << 20;
 /// Longest string (a body's name, an exception's message) either side accepts.
@@ -82,6 +96,10 @@ public:
     void append(const Writer& other) { bytes_ += other.bytes_; }
     std::size_t size() const { return bytes_.size(); }
     void reserve(std::size_t n) { bytes_.reserve(n); }
+    /// Empties the frame, keeping its memory for the next.
+    void clear() { bytes_.clear(); }
+    /// n numbers at once.
+    void numbers(const double* v, std::size_t n) { raw(v, n * sizeof(double)); }
     /// Writes v over the 4 bytes at `at`, a place kept with u32() for a count known later.
     void patchU32(std::size_t at, std::uint32_t v) { std::memcpy(bytes_.data() + at, &v, sizeof v); }
     void u8(std::uint8_t v) { raw(&v, sizeof v); }
@@ -119,6 +137,12 @@ public:
     std::uint64_t u64() { return pod<std::uint64_t>(); }
     std::int32_t i32() { return pod<std::int32_t>(); }
     double number() { return pod<double>(); }
+    /// n numbers at once.
+    void numbers(double* v, std::size_t n) {
+        if (static_cast<std::size_t>(end_ - p_) / sizeof(double) < n) throw ProtocolError("a message ends too early");
+        std::memcpy(v, p_, n * sizeof(double));
+        p_ += n * sizeof(double);
+    }
     std::string text();
     Vec3 vec3();
     Mat3 mat3();
@@ -153,8 +177,9 @@ private:
 
 /// Writes one frame (length, then bytes); false when the other side is gone.
 bool sendFrame(int fd, const std::string& bytes);
-/// Reads one frame; nothing when the other side closed the pipe before it began. Throws
-/// ProtocolError on a frame longer than kMaxFrameBytes or cut short.
-std::optional<std::string> receiveFrame(int fd);
+/// Reads one frame into `bytes` (its memory kept from frame to frame); false when the other side
+/// closed the pipe before it began. Throws ProtocolError on a frame longer than kMaxFrameBytes or
+/// cut short.
+bool receiveFrame(int fd, std::string& bytes);
 
 }  // namespace gpl::grading

@@ -147,7 +147,8 @@ void connectSubmission(const std::string& program) {
     requests = toRunner[1];
 }
 
-std::string request(Call call, const std::string& inputs, const AccelerationFunction* accel, std::size_t particles) {
+const std::string& request(Call call, const std::string& inputs, const AccelerationFunction* accel,
+                           std::size_t particles) {
     if (ended) throw SubmissionEnded(endedWhy);
     inFlight = static_cast<int>(call);
     struct Clear {
@@ -157,18 +158,19 @@ std::string request(Call call, const std::string& inputs, const AccelerationFunc
     head.u8(static_cast<std::uint8_t>(Frame::Request));
     head.u8(static_cast<std::uint8_t>(call));
     if (!sendFrame(requests, head.bytes() + inputs)) endNow(call, "");
+    static std::string frame;  // its memory kept from one answer to the next
     while (true) {
-        std::optional<std::string> frame;
+        bool got = false;
         try {
-            frame = receiveFrame(answers);
+            got = receiveFrame(answers, frame);
         } catch (const ProtocolError& e) {
             endNow(call, e.what());
         }
-        if (!frame) endNow(call, "");
+        if (!got) endNow(call, "");
         try {
-            Reader r(*frame);
+            Reader r(frame);
             const std::uint8_t kind = r.u8();
-            if (kind == static_cast<std::uint8_t>(Frame::Answer)) return std::move(*frame);
+            if (kind == static_cast<std::uint8_t>(Frame::Answer)) return frame;
             if (kind == static_cast<std::uint8_t>(Frame::Thrown)) {
                 const std::uint8_t what = r.u8();
                 if (what < 1 || what >= static_cast<std::uint8_t>(Thrown::End)) {

@@ -29,9 +29,9 @@ void connectSubmission(const std::string& program);
 
 /// Sends a request for `call` with its inputs; serves the integrator kernels' requests for
 /// accelerations with `accel` (for exactly `particles` particles, or the answer is nonsense); returns the answer: its kind (one byte), its outputs, and the hooks still open (parseAnswer()
-/// reads the last two). A hook that threw throws here the same kind of exception with its message.
-std::string request(Call call, const std::string& inputs, const AccelerationFunction* accel = nullptr,
-                    std::size_t particles = 0);
+/// reads the last two), valid until the next request. A hook that threw throws here the same kind of exception with its message.
+const std::string& request(Call call, const std::string& inputs, const AccelerationFunction* accel = nullptr,
+                           std::size_t particles = 0);
 
 /// Reads an answer's outputs with `read`, then the hooks still open it names (recorded as
 /// request() does). An answer that does not parse ends the submission for this test.
