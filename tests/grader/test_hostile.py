@@ -79,6 +79,16 @@ def lab_digest():
     return h.hexdigest()
 
 
+def source_digest(folder):
+    """A copy of the lab's sources (the Gradescope bundle's), its build folders left out."""
+    h = hashlib.sha256()
+    for p in sorted(pathlib.Path(folder).rglob("*")):
+        rel = p.relative_to(folder)
+        if p.is_file() and rel.parts[0] != "build" and "__pycache__" not in rel.parts:
+            h.update(os.fsencode(rel) + b"\0" + p.read_bytes())
+    return h.hexdigest()
+
+
 def results_digest(*paths):
     """The gradebook and the results files (symbolic links not followed)."""
     h = hashlib.sha256()
@@ -949,20 +959,20 @@ class GradescopeAutograder(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.subreaper = become_subreaper()
-        cls.before = lab_digest()
         cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-hostile-gradescope-"))
         cls.listener = Listener()
         cls.bundle = cls.tmp / "autograder"
         cls.fake = cls.tmp / "fake-root"
         cls.made = subprocess.run([str(ROOT / "lab"), "gradescope", str(cls.bundle)], capture_output=True, text=True,
                                   cwd=ROOT, timeout=600)
-        cls.setup = None
+        cls.setup, cls.source_before = None, None
         if cls.made.returncode == 0:
             shutil.unpack_archive(str(cls.bundle) + ".zip", cls.fake / "source", "zip")
             for script in ("setup.sh", "run_autograder", "lab"):
                 (cls.fake / "source" / script).chmod(0o755)
             cls.setup = subprocess.run([str(cls.fake / "source" / "setup.sh")], cwd=cls.fake / "source",
                                        capture_output=True, text=True, timeout=900)
+            cls.source_before = source_digest(cls.fake / "source")
         results = cls.fake / "results" / "results.json"
         cls.paths = attack_paths(cls.tmp, [results])
         # The Gradescope tree's own hidden tests and sources are what a submission would want there.
@@ -1016,7 +1026,8 @@ class GradescopeAutograder(unittest.TestCase):
         for path in self.paths["write"]:
             self.assertFalse(path.exists(), f"a submission wrote {path}")
         self.assertEqual(self.listener.connections, [])
-        self.assertEqual(lab_digest(), self.before, "a submission changed the lab's files")
+        self.assertEqual(source_digest(self.fake / "source"), self.source_before,
+                         "a submission changed the autograder's files")
 
 
 if __name__ == "__main__":
