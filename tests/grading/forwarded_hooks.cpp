@@ -33,7 +33,49 @@ std::vector<Body> heldBodies;
 std::vector<Vec3> heldPrevious;
 std::size_t heldSteps = 0;
 
+/// The hooks a step of the mirror's world may run, stage by stage.
+std::vector<std::string> hooksOfStep(const PhysicsEngine& e) {
+    std::vector<std::string> hooks{"simulationTimestep()"};
+    const auto add = [&](std::initializer_list<Call> calls) {
+        for (Call c : calls) hooks.emplace_back(callName(c));
+    };
+    const bool turning = e.stageActive(Stage::Rotation);
+    if (e.stageActive(Stage::Integration)) {
+        switch (e.integratorKind()) {
+            case Integrator::PositionVerlet: add({Call::PositionVerlet}); break;
+            case Integrator::VelocityVerlet: add({Call::VelocityVerlet}); break;
+            case Integrator::SemiImplicitEuler: add({Call::Integrator}); break;
+            default: break;
+        }
+    }
+    if (turning) add({Call::IntegrateRotation, Call::WorldInverseInertia});
+    if (e.stageActive(Stage::CollisionDetection)) {
+        add({Call::SphereSphere, Call::SpherePlane, Call::SphereBox, Call::BoxPlane, Call::BoxBox});
+    }
+    if (e.stageActive(Stage::Ropes)) add({Call::RopeContact});
+    if (e.stageActive(Stage::Interpenetration)) add({Call::ResolveInterpenetration});
+    if (e.stageActive(Stage::CollisionImpulses)) {
+        if (turning) {
+            add({Call::ApplyContactImpulse, Call::ApplyImpulseAtPoint, Call::WorldInverseInertia});
+        } else {
+            add({Call::ApplyCollisionImpulse});
+        }
+    }
+    if (e.stageActive(Stage::Friction)) {
+        add({Call::ApplyNormalImpulse, Call::ApplyFrictionImpulse, Call::ApplyWarmStart, Call::ApplyImpulseAtPoint,
+             Call::WorldInverseInertia});
+    }
+    return hooks;
+}
+
+/// The status lines name the step's hooks while its request is in flight.
+struct StepHooks {
+    explicit StepHooks(const PhysicsEngine& e) { grading::setStepHooks(hooksOfStep(e)); }
+    ~StepHooks() { grading::setStepHooks({}); }
+};
+
 void engineCall(Call call, PhysicsEngine& mirror) {
+    const StepHooks named(mirror);
     // Another engine (or this one, loaded anew): the submission starts from a fresh engine too.
     const bool fresh = heldFor != &mirror || mirror.stepCount() < heldSteps;
     const bool send = fresh || !EngineAccess::sameBodies(heldBodies, heldPrevious, mirror);
@@ -57,7 +99,8 @@ namespace grading {
 void steps(PhysicsEngine& mirror, int n, const std::function<bool(int)>& each) {
     // Steps of one request: as many as about a megabyte of answers holds (a thousand bodies: six),
     // which stays in the processor's caches.
-    const std::size_t perStep = 160 * std::max<std::size_t>(1, EngineAccess::bodies(mirror).size()) + 64;
+    const StepHooks named(mirror);
+    const std::size_t perStep = 180 * std::max<std::size_t>(1, EngineAccess::bodies(mirror).size()) + 64;
     const int batch = static_cast<int>(std::clamp<std::size_t>((1u << 20) / perStep, 1, 1000));
     int k = 0;
     while (k < n) {

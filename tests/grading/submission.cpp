@@ -37,15 +37,19 @@ void writeStatus(const char* text) {
     if (statusFd >= 0 && write(statusFd, text, std::strlen(text)) < 0) return;
 }
 
+// ,"hooks":[...]: the hooks the whole step in flight may run, set before its request.
+char stepHooks[1024] = "";
+
 // {"event":"EVENT","call":"NAME"} or "call":null; async-signal-safe (no allocation).
 void writeEvent(const char* event, int call) {
-    char line[160] = "{\"event\":\"";
+    char line[1200] = "{\"event\":\"";
     std::strncat(line, event, 20);
     std::strcat(line, "\",\"call\":");
     if (call > 0 && call < static_cast<int>(Call::End)) {
         std::strcat(line, "\"");
         std::strncat(line, callName(static_cast<Call>(call)), 60);
         std::strcat(line, "\"");
+        std::strcat(line, stepHooks);
     } else {
         std::strcat(line, "null");
     }
@@ -77,8 +81,8 @@ std::string jsonEscaped(const std::string& s) {
     endedWhy = detail.empty() ? std::string("the submission's code stopped answering during ") + callName(call)
                               : std::string("the submission's code answered nonsense during ") + callName(call) +
                                     ": " + detail;
-    const std::string line = "{\"event\":\"ended\",\"call\":\"" + std::string(callName(call)) + "\",\"detail\":\"" +
-                             jsonEscaped(detail) + "\"}\n";
+    const std::string line = "{\"event\":\"ended\",\"call\":\"" + std::string(callName(call)) + "\"" + stepHooks +
+                             ",\"detail\":\"" + jsonEscaped(detail) + "\"}\n";
     writeStatus(line.c_str());
     throw SubmissionEnded(endedWhy);
 }
@@ -205,6 +209,15 @@ const std::string& request(Call call, const std::string& inputs, const Accelerat
 }
 
 const std::vector<std::string>& openHooksOfLastAnswer() { return lastOpen; }
+
+void setStepHooks(const std::vector<std::string>& hooks) {
+    std::string list;
+    for (const std::string& h : hooks) list += (list.empty() ? "" : ",") + ("\"" + h + "\"");
+    list = hooks.empty() ? "" : ",\"hooks\":[" + list + "]";
+    if (list.size() >= sizeof stepHooks) list.clear();
+    inFlight = 0;  // the signal handler never reads a list half written
+    std::memcpy(stepHooks, list.c_str(), list.size() + 1);
+}
 
 /// Runs `read` on the answer; a ProtocolError in it ends the submission for this test.
 void parseAnswer(Call call, const std::string& answer, const std::function<void(Reader&)>& read) {

@@ -43,6 +43,11 @@ void parseAnswer(Call call, const std::string& answer, const std::function<void(
 /// Throws the kind of exception a hook threw, with its message.
 [[noreturn]] void rethrow(Thrown kind, const std::string& what);
 
+/// The hooks a whole step may run (the stages the checker's engine has active), named in the status
+/// lines while a step's request is in flight, so that the grader may take the hook the engine's own
+/// call stack names among them, and no other; empty for a kernel's request.
+void setStepHooks(const std::vector<std::string>& hooks);
+
 /// The hooks still open that the last answer named.
 const std::vector<std::string>& openHooksOfLastAnswer();
 
