@@ -1,6 +1,10 @@
 // gpl-run: steps a scene without a display and prints a summary; see ./lab run --help.
+#include <unistd.h>
+
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <iostream>
 
@@ -13,6 +17,36 @@ namespace {
 int fail(const std::string& message) {
     std::cerr << "error: " << message << '\n';
     return 2;
+}
+
+// A failed assertion in a hook aborts the program within a step: the handler names the step and
+// keeps the CSV of the steps before it (run() flushes each as it ends). Async-signal-safe only.
+char csvPartial[4096] = "";
+char csvFinal[4096] = "";
+
+void say(const char* text) {
+    if (write(STDOUT_FILENO, text, std::strlen(text)) < 0) return;
+}
+
+void onAbort(int signal) {
+    const std::size_t step = gpl::stepInProgress();
+    if (step > 0) {
+        char digits[24];
+        int n = 0;
+        for (std::size_t s = step; s > 0 || n == 0; s /= 10) digits[n++] = static_cast<char>('0' + s % 10);
+        char number[24];
+        for (int i = 0; i < n; ++i) number[i] = digits[n - 1 - i];
+        number[n] = '\0';
+        say("stopped early: a failed assertion ended step ");
+        say(number);
+        if (csvFinal[0] && std::rename(csvPartial, csvFinal) == 0) {
+            say("; the steps before it are in ");
+            say(csvFinal);
+        }
+        say("\n");
+    }
+    ::signal(signal, SIG_DFL);
+    raise(signal);
 }
 
 }  // namespace
@@ -62,7 +96,12 @@ int main(int argc, char** argv) {
         gpl::writeCsvHeader(csv);
     }
 
-    std::cout << "scene " << scene->key << " '" << scene->name << "': " << scene->description << '\n';
+    if (!csvPath.empty() && csvPath.size() < sizeof csvFinal && partial.size() < sizeof csvPartial) {
+        std::strcpy(csvFinal, csvPath.c_str());
+        std::strcpy(csvPartial, partial.c_str());
+    }
+    std::signal(SIGABRT, onAbort);
+    std::cout << "scene " << scene->key << " '" << scene->name << "': " << scene->description << std::endl;
     const gpl::RunSummary summary = gpl::run(engine, static_cast<std::size_t>(steps), csvPath.empty() ? nullptr : &csv);
     std::cout << gpl::describe(summary, engine);
 

@@ -1,12 +1,15 @@
 #include "gpl/runner.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
 namespace gpl {
 namespace {
+
+std::atomic<std::size_t> stepNow{0};  // the step run() is taking, for a signal handler
 
 void writeRow(std::ostream& csv, const PhysicsEngine& e, const std::string& name, const Vec3& x, const Vec3& v,
               double kinetic, double potential) {
@@ -42,11 +45,22 @@ RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
     if (csv) {
         *csv << std::setprecision(17);
         writeRows(*csv, engine);
+        csv->flush();
     }
     const double startTime = engine.time();
+    // The summary's end is the last state that was finite: a step that ends in a NaN adds nothing.
+    const auto atEnd = [&] {
+        s.simulatedTime = engine.time() - startTime;
+        s.finalEnergy = engine.totalEnergy();
+        s.finalAngularMomentum = engine.angularMomentum();
+        s.maxSpeed = 0.0;
+        for (const Body& b : engine.bodies()) s.maxSpeed = std::max(s.maxSpeed, b.velocity.norm());
+    };
+    atEnd();
     double previous = s.initialEnergy;
     try {
         for (std::size_t i = 0; i < steps; ++i) {
+            stepNow = engine.stepCount() + 1;
             engine.step();
             ++s.steps;
             s.maxContacts = std::max(s.maxContacts, engine.contacts().size());
@@ -54,21 +68,37 @@ RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
             const double energy = engine.totalEnergy();
             s.maxEnergyIncrease = std::max(s.maxEnergyIncrease, energy - previous);
             previous = energy;
-            if (csv) writeRows(*csv, engine);
+            if (csv) {
+                writeRows(*csv, engine);
+                csv->flush();  // every finished step is in the file, whatever ends the program
+            }
+            atEnd();
         }
     } catch (const SimulationError& error) {
         s.error = error.what();
     }
-    s.simulatedTime = engine.time() - startTime;
-    s.finalEnergy = engine.totalEnergy();
-    s.finalAngularMomentum = engine.angularMomentum();
-    for (const Body& b : engine.bodies()) s.maxSpeed = std::max(s.maxSpeed, b.velocity.norm());
+    stepNow = 0;
     return s;
 }
+
+std::size_t stepInProgress() { return stepNow; }
 
 std::string describe(const RunSummary& s, const PhysicsEngine& e) {
     std::ostringstream out;
     out << std::setprecision(6);
+    // A run that stopped says why first; the rest describes the steps that ended finite.
+    if (!s.error.empty()) out << "stopped early: " << s.error << '\n';
+    const auto openHooks = [&] {
+        if (e.missingHooks().empty()) return;
+        out << "hooks not implemented yet:";
+        for (const auto& h : e.missingHooks()) out << ' ' << h;
+        out << '\n';
+    };
+    if (!s.error.empty() && s.steps == 0) {
+        openHooks();
+        return out.str();
+    }
+    if (!s.error.empty()) out << "the " << s.steps << " finite step" << (s.steps == 1 ? "" : "s") << ":\n";
     out << "steps: " << s.steps << " of h = " << e.timeStep() << " s (" << s.simulatedTime << " s simulated), "
         << e.bodies().size() << " bodies, stages: " << e.requiredStages().names()
         << ", integrator: " << integratorName(e.integratorKind()) << '\n';
@@ -96,12 +126,7 @@ std::string describe(const RunSummary& s, const PhysicsEngine& e) {
         out << "contacts: at most " << s.maxContacts << " in one step, deepest " << s.deepestContact
             << " m (found before resolution)\n";
     }
-    if (!e.missingHooks().empty()) {
-        out << "hooks not implemented yet:";
-        for (const auto& h : e.missingHooks()) out << ' ' << h;
-        out << '\n';
-    }
-    if (!s.error.empty()) out << "stopped early: " << s.error << '\n';
+    openHooks();
     return out.str();
 }
 

@@ -1,9 +1,11 @@
 #include "gpl/engine.h"
+#include "gpl/runner.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <string>
 
 namespace gpl {
 namespace {
@@ -91,6 +93,28 @@ TEST(Engine, StepAdvancesTimeAndCatchesNonFiniteState) {
     } catch (const SimulationError& error) {
         EXPECT_NE(std::string(error.what()).find("ball"), std::string::npos) << error.what();
     }
+}
+
+TEST(Runner, AStoppedRunSaysWhyFirstAndSummarisesOnlyFiniteSteps) {
+    PhysicsEngine e;
+    e.setRequiredStages({});  // no hooks run: the NaN below survives into the step's check
+    e.add(sphere("ball", 0.5, 1.0).at({0.0, 5.0, 0.0}));
+    e.bodies()[0].velocity.x() = std::numeric_limits<double>::quiet_NaN();
+    const RunSummary none = run(e, 10, nullptr);
+    EXPECT_EQ(none.steps, 0u);
+    const std::string text = describe(none, e);
+    EXPECT_EQ(text.rfind("stopped early: body 'ball' is no longer finite after step 1", 0), 0u) << text;
+    EXPECT_EQ(text.find("nan"), std::string::npos) << text;
+    EXPECT_EQ(text.find("steps:"), std::string::npos) << "no finite step to summarise:\n" << text;
+
+    RunSummary some;
+    some.steps = 3;
+    some.simulatedTime = 0.03;
+    some.initialEnergy = some.finalEnergy = 49.05;
+    some.error = "body 'ball' is no longer finite after step 4 (t = 0.04 s): check integrator()";
+    const std::string three = describe(some, e);
+    EXPECT_EQ(three.rfind("stopped early: body 'ball' is no longer finite after step 4", 0), 0u) << three;
+    EXPECT_NE(three.find("the 3 finite steps:\nsteps: 3 of h"), std::string::npos) << three;
 }
 
 TEST(Engine, FiniteBodiesWhoseSumOverflowsAreFinite) {

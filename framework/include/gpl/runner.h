@@ -31,11 +31,17 @@ struct RunSummary {
 /// of mass, its velocity and the world's energies.
 void writeCsvHeader(std::ostream& csv);
 
-/// Steps the engine `steps` times. Rows go to csv when it is not null. A SimulationError stops the
-/// run and is reported in the summary instead of thrown.
+/// Steps the engine `steps` times. Rows go to csv when it is not null, flushed after every step. A
+/// SimulationError stops the run and is reported in the summary instead of thrown; the summary's
+/// end (energy, speed, time) is the last state that was finite.
 RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv);
 
-/// The summary as a few lines of text for people.
+/// The step run() is taking now (1 for the first of the engine), 0 outside run(); safe to read
+/// in a signal handler (the runner's, when a failed assertion aborts a step).
+std::size_t stepInProgress();
+
+/// The summary as a few lines of text for people: why the run stopped first, if it did, then
+/// the steps that ended finite.
 std::string describe(const RunSummary& summary, const PhysicsEngine& engine);
 
 }  // namespace gpl
