@@ -50,6 +50,7 @@ import unittest
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tools"))
 import hooks  # noqa: E402
+import test_release  # noqa: E402
 
 CHECK_GRADESCOPE = ROOT.parent / "shared" / "tools" / "check-gradescope.py"
 MEMORY = 256        # MiB per test: the course's tests need under 10; 30 x 48 MiB is far above it
@@ -952,27 +953,18 @@ class HostileBatch(unittest.TestCase):
         self.assertFalse(self.paths["marker"].exists())
 
 
-class GradescopeAutograder(unittest.TestCase):
-    """The Gradescope bundle, set up in a fake /autograder (as test_release.py does), grading the
-    static initializer's submission, then the untouched stubs, with run_autograder."""
+class GradescopeAutograder(test_release.GradescopeAutograder):
+    """The Gradescope bundle of test_release.py (its tests run here too, on one build), grading as
+    well the static initializer's submission, then the untouched stubs, with run_autograder."""
 
     @classmethod
     def setUpClass(cls):
         cls.subreaper = become_subreaper()
-        cls.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-hostile-gradescope-"))
+        super().setUpClass()  # the bundle in cls.tmp, unpacked to cls.fake / "source", setup.sh run
         cls.listener = Listener()
-        cls.bundle = cls.tmp / "autograder"
-        cls.fake = cls.tmp / "fake-root"
-        cls.made = subprocess.run([str(ROOT / "lab"), "gradescope", str(cls.bundle)], capture_output=True, text=True,
-                                  cwd=ROOT, timeout=600)
-        cls.setup, cls.source_before = None, None
-        if cls.made.returncode == 0:
-            shutil.unpack_archive(str(cls.bundle) + ".zip", cls.fake / "source", "zip")
-            for script in ("setup.sh", "run_autograder", "lab"):
-                (cls.fake / "source" / script).chmod(0o755)
-            cls.setup = subprocess.run([str(cls.fake / "source" / "setup.sh")], cwd=cls.fake / "source",
-                                       capture_output=True, text=True, timeout=900)
-            cls.source_before = source_digest(cls.fake / "source")
+        if cls.made.returncode != 0:
+            cls.setup = None
+        cls.source_before = source_digest(cls.fake / "source") if cls.made.returncode == 0 else None
         results = cls.fake / "results" / "results.json"
         cls.paths = attack_paths(cls.tmp, [results])
         # The Gradescope tree's own hidden tests and sources are what a submission would want there.
@@ -983,7 +975,7 @@ class GradescopeAutograder(unittest.TestCase):
     def tearDownClass(cls):
         cls.listener.close()
         end_leftovers([p for p, _ in own_children()] + processes_named(TOKEN))
-        shutil.rmtree(cls.tmp, ignore_errors=True)
+        super().tearDownClass()
 
     def run_autograder(self, files):
         submission = self.fake / "submission"
