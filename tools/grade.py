@@ -57,6 +57,14 @@ from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits,
 from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, Programs, failed_results,  # noqa: E402
                              grade_binary, run_one, select, with_prerequisites)
 
+class GradeParser(OneLineParser):
+    """Command-line errors as one line that points at the lab's own help (./lab grade --help)."""
+
+    def error(self, message):
+        print(f"error: {message} (./lab grade --help for help)", file=sys.stderr)
+        sys.exit(2)
+
+
 # ---- Commands -------------------------------------------------------------------------------------
 
 def unless_sandboxed(make_guard):
@@ -309,8 +317,8 @@ def main(argv):
     for stream in (sys.stdout, sys.stderr):
         if hasattr(stream, "reconfigure"):
             stream.reconfigure(errors="replace")
-    parser = OneLineParser(prog="grade.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser)
+    parser = GradeParser(prog="grade.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=GradeParser)
 
     def common(p):
         p.add_argument("--worksheet", type=int, help="grade only this worksheet's tests")

@@ -355,8 +355,10 @@ class Reports(unittest.TestCase):
                 if expected_score is not None:
                     self.assertEqual(data["score"], expected_score)
                     self.assertTrue(all(t["status"] == "failed" for t in data["tests"]))
-                    self.assertTrue(all("hint:" in t["output"] or t["output"].startswith("not run: depends on")
-                                        for t in data["tests"]))
+                    # The stubs fail only because their hooks are open: each test says so, no hint.
+                    self.assertTrue(all(t["output"].startswith(("hooks still not implemented: ", "not run: depends on"))
+                                        for t in data["tests"]), data["tests"])
+                    self.assertFalse(any("hint:" in t["output"] for t in data["tests"]))
                 else:
                     self.assertEqual(data["score"], data["max_score"])
 
@@ -375,8 +377,28 @@ class Reports(unittest.TestCase):
 
     def test_table_ends_with_the_count_line(self):
         text = reports.table(self.stubs, "stubs")
-        self.assertTrue(text.splitlines()[-1].startswith(f"0 passed, {len(self.stubs)} failed"))
-        self.assertIn("hint:", text)
+        not_run = sum(r["not_run"] for r in self.stubs)
+        self.assertEqual(text.splitlines()[-1], f"0 of {len(self.stubs)} tests passed: "
+                                                f"{len(self.stubs) - not_run} failed, {not_run} not run")
+        self.assertEqual(reports.table(self.solutions, "solutions").splitlines()[-1],
+                         f"{len(self.solutions)} of {len(self.solutions)} tests passed")
+
+    def test_the_stubs_report_fits_a_screen(self):
+        # Worksheet 1's stubs: one line for the open hooks, one for the tests that wait for them.
+        text = reports.table(self.stubs, "stubs")
+        self.assertLessEqual(len(text.splitlines()), 8, text)
+        self.assertRegex(text, r"\nnot written yet: integrator\(\) simulationTimestep\(\) — \d+ tests, 0 / \d+ points "
+                               r"\(Worksheet1\.GravityIndependentOfMass, ")
+        self.assertIn("\nnot run until those pass — ", text)
+        self.assertNotIn("hint:", text)
+        # UsesEngineTimeStep builds engines of its own (no fixture note): the engine's report of
+        # the stubs it ran groups it with the others.
+        uses = next(r for r in self.stubs if r["name"] == "Worksheet1.UsesEngineTimeStep")
+        self.assertTrue(uses["output"].startswith("hooks still not implemented: integrator()"), uses["output"])
+        # JUnit keeps one entry per test, with the short message.
+        tree = ET.fromstring(reports.junit(self.stubs, "stubs"))
+        for failure in tree.iter("failure"):
+            self.assertTrue(failure.get("message").startswith("hooks still not implemented: "), failure.get("message"))
 
     def test_stub_failures_say_which_hooks_are_open(self):
         open_hooks = [r for r in self.stubs if "hooks still not implemented" in r["output"]]
@@ -387,6 +409,119 @@ class Reports(unittest.TestCase):
         passed, output, _ = running.run_one(programs("solutions"), "Worksheet1.NoSuchTest", running.limits_of({}, 10))
         self.assertFalse(passed)
         self.assertIn("not found", output)
+
+
+def fake_result(name, output, passed=False, not_run=False, points=2, depends_on=()):
+    return {"name": name, "worksheet": 1, "points": points, "hint": f"hint of {name}", "hidden": False,
+            "depends_on": list(depends_on), "passed": passed, "not_run": not_run,
+            "score": points if passed else 0.0, "seconds": 0.1, "output": output}
+
+
+ENERGY_ABORT = ("crashed with SIGABRT (abort: a failed assert or an uncaught exception) in integrator()\n"
+                "gpl-hooks-x: assignments/integrator.cpp:37: void gpl::PhysicsEngine::integrator(): Assertion "
+                "`energyAfter <= energyBefore + 1e-12' failed.")
+
+
+class Feedback(unittest.TestCase):
+    """What the reports say: one cause once, hints only where the evidence points, no GoogleTest noise."""
+
+    def results(self):
+        return [fake_result("W.A", ENERGY_ABORT), fake_result("W.B", ENERGY_ABORT),
+                fake_result("W.C", "velocity is (0, 0, 0), expected (0, -0.0981, 0) (off by 0.098100000000000007)"),
+                fake_result("W.D", "timed out after 5 s in integrator() (an endless loop?)"),
+                fake_result("W.E", "not run: depends on W.A, which did not pass; fix that first", not_run=True,
+                            depends_on=["W.A"]),
+                fake_result("W.F", "", passed=True),
+                fake_result("W.G", ENERGY_ABORT.replace("37:", "38:").replace("energyAfter <= energyBefore + 1e-12",
+                                                                               "x.isFinite()"))]
+
+    def test_one_cause_is_said_once_first(self):
+        text = reports.table(self.results(), "t")
+        lines = text.splitlines()
+        self.assertEqual(lines[1], "2 tests stopped on the same failed assertion, in integrator():")
+        self.assertIn("assignments/integrator.cpp:37: assert(energyAfter <= energyBefore + 1e-12)", lines[2])
+        self.assertIn("explicit Euler's signature (x += h v with the old velocity)", lines[3])
+        self.assertEqual(text.count("stopped on the same failed assertion (above)"), 2)
+        self.assertEqual(text.count("energyAfter"), 1, text)
+        # A different assert (W.G, alone) keeps its own message, without the hint of its test.
+        self.assertIn("x.isFinite()", text)
+        self.assertNotIn("hint of W.G", text)
+        self.assertEqual(reports.meaning("a.isFinite()").split()[0], "a")
+        self.assertEqual(reports.meaning("n > 0"), reports.GENERIC_MEANING)
+
+    def test_gradescope_says_the_cause_once_and_each_test_alone(self):
+        data = reports.gradescope(self.results(), 1.0, notes="sandbox: bubblewrap")
+        tests = {t["name"]: t["output"] for t in data["tests"]}
+        self.assertIn("2 tests stopped on the same failed assertion", data["output"])
+        self.assertIn("sandbox: bubblewrap", data["output"])
+        self.assertIn("Assertion `energyAfter", tests["W.A"])          # the full message in the first
+        self.assertIn("explicit Euler's signature", tests["W.A"])
+        self.assertEqual(tests["W.B"], "crashed with SIGABRT (abort: a failed assert or an uncaught exception) "
+                                       "in integrator(): stopped on the same failed assertion as W.A")
+        self.assertNotIn("hint:", tests["W.A"] + tests["W.B"] + tests["W.D"] + tests["W.E"])
+        self.assertIn("hint: hint of W.C", tests["W.C"])
+        with tempfile.TemporaryDirectory() as tmp:
+            path = pathlib.Path(tmp) / "results.json"
+            reports.write_atomically(path, json.dumps(data))
+            proc = subprocess.run([sys.executable, str(CHECK_GRADESCOPE), str(path)], capture_output=True, text=True)
+            self.assertEqual(proc.returncode, 0, proc.stdout)
+        # A hidden test never carries the whole message that visible tests point at.
+        results = self.results()
+        results[0]["hidden"] = True
+        tests = {t["name"]: t["output"] for t in reports.gradescope(results, 1.0)["tests"]}
+        self.assertIn("Assertion `energyAfter", tests["W.B"])
+        self.assertTrue(tests["W.A"].endswith("stopped on the same failed assertion as W.B"))
+
+    def test_hints_only_for_a_tests_own_failure(self):
+        text = reports.table(self.results(), "t")
+        self.assertIn("hint: hint of W.C", text)
+        for name in ("W.A", "W.B", "W.D", "W.E", "W.F"):
+            self.assertNotIn(f"hint of {name}", text)
+        self.assertIn("| timed out after 5 s in integrator()", text)
+
+    def test_footer_and_numbers(self):
+        text = reports.table(self.results(), "t")
+        self.assertEqual(text.splitlines()[-2:], ["total: 2 / 14 points", "1 of 7 tests passed: 5 failed, 1 not run"])
+        self.assertIn("(off by 0.0981)", text)
+
+    def test_googletest_text_is_stripped(self):
+        self.assertEqual(reports.clean("Expected: (b.velocity.y()) < (0.0), actual: 0 vs 0"),
+                         "expected b.velocity.y() < 0.0, got 0 vs 0")
+        self.assertEqual(reports.clean('unknown file: Failure\nC++ exception with description "bad thing" '
+                                       "thrown in the test body."), "bad thing")
+        self.assertEqual(reports.clean("h = 0.0050000000000000001 s, off by 0.098100000000000007, "
+                                       "1.00199019, 0.100000 kg, 1e-12, 14323.9"),
+                         "h = 0.005 s, off by 0.0981, 1.00199, 0.100000 kg, 1e-12, 14323.9")
+        # Digits inside names and paths are left alone.
+        for text in ("body_0.1234567890 at v1.23456789/x.cpp:12", "file2.123456789.cpp:4"):
+            self.assertEqual(reports.clean(text), text)
+
+    def test_open_hooks_are_grouped_one_line_each(self):
+        results = [fake_result(f"W.O{i}", "hooks still not implemented: a() b()\nvelocity is 0") for i in range(4)]
+        results += [fake_result("W.P", "hooks still not implemented: c()"),
+                    fake_result("W.N", "not run: depends on W.O1", not_run=True, depends_on=["W.O1"]),
+                    fake_result("W.Q", "off by 1")]
+        lines = reports.table(results, "t").splitlines()
+        self.assertIn("not written yet: a() b() — 4 tests, 0 / 8 points (W.O0, W.O1, ...)", lines)
+        self.assertIn("not written yet: c() — 1 test, 0 / 2 points (W.P)", lines)
+        self.assertIn("not run until those pass — 1 test, 0 / 2 points (W.N)", lines)
+        self.assertEqual(sum(l.startswith("W.") for l in lines), 1)  # W.Q alone keeps its row
+        data = reports.gradescope(results, 1.0)
+        self.assertEqual(len(data["tests"]), len(results))
+        self.assertEqual(data["tests"][0]["output"], "hooks still not implemented: a() b()")
+
+    def test_explicit_euler_says_its_assertion_once(self):
+        engine = pathlib.Path(env_path("GPL_CHECKER")).parent / "gpl-hooks-mutant_explicit_euler"
+        if not engine.is_file():
+            self.skipTest(f"{engine} is not built")
+        results = running.grade_binary(running.Programs(env_path("GPL_CHECKER"), engine, env_path("GPL_LAUNCH")), 1)
+        text = reports.table(results, "explicit Euler")
+        self.assertRegex(text, r"\n\d+ tests stopped on the same failed assertion, in integrator\(\):\n"
+                               r"  \S*integrator\.cpp:\d+: assert\(stageActive[^\n]*energyAfter <= energyBefore")
+        self.assertIn("explicit Euler's signature", text)
+        self.assertEqual(text.count("Assertion `"), 0)
+        self.assertNotIn("hint:", text)
+        self.assertRegex(text, r"OneStepIsSemiImplicitEuler +0 / \d+ +FAIL\n +\| stopped on the same failed assertion \(above\)")
 
 
 class Declarations(unittest.TestCase):
@@ -541,7 +676,10 @@ class CommandLine(unittest.TestCase):
                               (["grade", "--build-dir", "b", "--timeout", "0"], "--timeout must be a positive"),
                               (["grade", "--build-dir", "b", "--memory", "-5"], "--memory must be a positive"),
                               (["report", "--checker", env_path("GPL_CHECKER"), "--hooks",
-                                env_path("GPL_HOOKS_SOLUTIONS"), "--worksheet", "9"], "no graded tests for worksheet 9"),
+                                env_path("GPL_HOOKS_SOLUTIONS"), "--worksheet", "9"],
+                               "no graded tests for worksheet 9; the worksheets with graded tests: 1, 2"),
+                              (["report", "--checker", "c", "--hooks", "h", "--worksheet", "x"],
+                               "invalid int value: 'x' (./lab grade --help for help)"),
                               (["report", "--checker", "/nonexistent", "--hooks", env_path("GPL_HOOKS_SOLUTIONS")],
                                "checker not found"),
                               (["nonsense"], "invalid choice")]:

@@ -10,7 +10,7 @@ import tempfile
 import threading
 import xml.etree.ElementTree as ET
 
-from grading import GradeError, sandbox
+from grading import GradeError, running, sandbox
 from grading.cgroups import Cgroups
 
 
@@ -18,45 +18,211 @@ def status_word(r):
     return "pass" if r["passed"] else ("not run" if r.get("not_run") else "FAIL")
 
 
-def table(results, title):
-    width = max(len(r["name"]) for r in results)
-    lines = [title, f"{'test':<{width}}  {'points':>9}  result"]
+# ---- What a failure says: GoogleTest's own text out, numbers to 6 digits -------------------------
+
+_NUMBER = re.compile(r"(?<![\w.])-?\d+\.\d+(?:[eE][-+]?\d+)?(?!\w|\.\d)")
+_EXPECTED = re.compile(r"^Expected: \((.*)\) (<|<=|>|>=|==|!=) \((.*)\), actual: (.*) vs (.*)$")
+_EXCEPTION = re.compile(r'C\+\+ exception with description "(.*)" thrown in the test body\.?', re.S)
+
+
+def _short_number(m):
+    text = m.group(0)
+    digits = re.sub(r"\D", "", re.split(r"[eE]", text)[0]).lstrip("0")
+    return text if len(digits) <= 6 else f"{float(text):.6g}"
+
+
+def clean(message):
+    """A message without GoogleTest's raw text ("unknown file: Failure", "C++ exception with
+    description ... thrown in the test body", "Expected: (a) < (b), actual: x vs y") and with numbers
+    of more than 6 significant digits given to 6 (digits inside names and paths are left alone)."""
+    message = _EXCEPTION.sub(lambda m: m.group(1), message)
+    lines = []
+    for line in message.splitlines():
+        if line.strip() in ("unknown file: Failure", "Failure"):
+            continue
+        m = _EXPECTED.match(line.strip())
+        if m:
+            line = f"expected {m.group(1)} {m.group(2)} {m.group(3)}, got {m.group(4)} vs {m.group(5)}"
+        lines.append(_NUMBER.sub(_short_number, line))
+    return "\n".join(lines).strip()
+
+
+# ---- One cause, one message ----------------------------------------------------------------------
+
+_ASSERT = re.compile(r"(?P<where>[^\s:]+:\d+): (?P<function>[^\n]*?): Assertion `(?P<condition>.*)' failed\.")
+_IN_HOOK = re.compile(r" in (\S+\(\))$")
+OPEN_HOOKS = running.OPEN_HOOKS
+
+# What a failed assert usually means, by a pattern of its condition (the first that matches).
+MEANINGS = [
+    (r"energyAfter\s*<=\s*energyBefore", "the total energy grew in a step: explicit Euler's signature "
+                                          "(x += h v with the old velocity)"),
+    (r"isFinite|isfinite|isnan", "a position or velocity is no longer a finite number (a division by a "
+                                 "zero mass, or a step that blew up)"),
+]
+GENERIC_MEANING = "a condition the code asserts was false: read it, and where it is checked"
+
+
+def meaning(condition):
+    return next((text for pattern, text in MEANINGS if re.search(pattern, condition)), GENERIC_MEANING)
+
+
+def own_failure(r):
+    """Whether the test failed on its own assertions (not a crash, a limit, open hooks, not run)."""
+    if r["passed"] or r.get("not_run"):
+        return False
+    return not r["output"].startswith(running.ENGINE_FAILURES + (OPEN_HOOKS,))
+
+
+def cause_of(r):
+    """(key, kind) of an engine failure several tests may share: the same failed assert, or the same
+    crash in the same hook; None for a test that failed otherwise."""
+    if r["passed"] or r.get("not_run") or not r["output"].startswith("crashed with"):
+        return None
+    first = r["output"].splitlines()[0]
+    hook = _IN_HOOK.search(first)
+    m = _ASSERT.search(r["output"])
+    if m:
+        # The assert names its own function: the same line is the same cause, whichever hook the
+        # checker had in flight around it (the hook alone, or the whole step).
+        function = m.group("function").split("(")[0].split("::")[-1].split()[-1]
+        return ("assert", m.group("where"), m.group("condition"), function + "()" if function else
+                (hook.group(1) if hook else "")), "failed assertion"
+    return ("signal", first), "crash"
+
+
+def analyse(results):
+    """What the reports say of each test, once: {"causes": [...], "groups": [...], name: view}, where
+    a view is {"message", "short", "hint", "cause", "group"}."""
+    views = {r["name"]: {"message": clean(r["output"]), "hint": own_failure(r), "cause": None, "group": None}
+             for r in results}
+    shared = {}
     for r in results:
+        found = cause_of(r)
+        if found:
+            shared.setdefault(found[0], []).append(r)
+    causes = []
+    for key, rs in shared.items():
+        if len(rs) < 2:
+            continue
+        kind = "failed assertion" if key[0] == "assert" else "crash"
+        # The whole message goes with a visible test: others (Gradescope) point at it by name.
+        rs = sorted(rs, key=lambda r: bool(r.get("hidden")))
+        first = views[rs[0]["name"]]["message"].splitlines()[0]
+        if key[0] == "assert":
+            _, where, condition, hook = key
+            text = [f"{len(rs)} tests stopped on the same failed assertion" + (f", in {hook}" if hook else "") + ":",
+                    f"  {where}: assert({clean(condition)})",
+                    f"  what it usually means: {meaning(condition)}"]
+        else:
+            text = [f"{len(rs)} tests stopped on the same crash: {first}",
+                    *("  " + line for line in views[rs[0]["name"]]["message"].splitlines()[1:5])]
+        cause = {"kind": kind, "text": "\n".join(text), "tests": [r["name"] for r in rs], "first": rs[0]["name"]}
+        causes.append(cause)
+        for r in rs:
+            views[r["name"]]["cause"] = cause
+            views[r["name"]]["hint"] = False
+            if r is not rs[0]:
+                views[r["name"]]["short"] = f"{first}: stopped on the same {kind} as {rs[0]['name']}"
+    # Tests that fail only because their hooks are still open, and those not run until they pass.
+    groups, grouped = {}, set()
+    by_name = {r["name"]: r for r in results}
+    for r in results:
+        if r["passed"] or views[r["name"]]["cause"]:
+            continue
+        if not r.get("not_run") and r["output"].startswith(OPEN_HOOKS):
+            hooks_open = r["output"].splitlines()[0][len(OPEN_HOOKS):].strip()
+            key = f"not written yet: {hooks_open}"
+            views[r["name"]]["short"] = f"{OPEN_HOOKS} {hooks_open}"
+        elif r.get("not_run"):
+            blocked = [d for d in r.get("depends_on", []) if d in by_name and not by_name[d]["passed"]]
+            if not blocked or any(d not in grouped and not by_name[d].get("not_run") for d in blocked):
+                continue
+            key = "not run until those pass"
+        else:
+            continue
+        groups.setdefault(key, []).append(r)
+        grouped.add(r["name"])
+        views[r["name"]]["group"] = key
+    views["causes"] = causes
+    # Open hooks first, in the order of the course; what waits for them last.
+    views["groups"] = sorted(groups.items(), key=lambda item: item[0].startswith("not run"))
+    return views
+
+
+def _group_line(key, rs):
+    names = [r["name"] for r in rs]
+    shown = ", ".join(names[:2]) + (", ..." if len(names) > 2 else "")
+    points = sum(r["points"] for r in rs)
+    return f"{key} — {len(rs)} test{'s' if len(rs) > 1 else ''}, 0 / {points:g} points ({shown})"
+
+
+def count_line(results):
+    passed = sum(bool(r["passed"]) for r in results)
+    not_run = sum(bool(r.get("not_run")) for r in results)
+    failed = len(results) - passed - not_run
+    parts = [f"{failed} failed"] + ([f"{not_run} not run"] if not_run else [])
+    return f"{passed} of {len(results)} tests passed" + (": " + ", ".join(parts) if failed or not_run else "")
+
+
+def table(results, title):
+    views = analyse(results)
+    width = max(len(r["name"]) for r in results)
+    lines = [title]
+    for cause in views["causes"]:
+        lines += cause["text"].splitlines()
+    if any(not views[r["name"]]["group"] for r in results):
+        lines.append(f"{'test':<{width}}  {'points':>9}  result")
+    for r in results:
+        view = views[r["name"]]
+        if view["group"]:
+            continue
         lines.append(f"{r['name']:<{width}}  {r['score']:>4g} / {r['points']:<2g}  {status_word(r)}")
-        if r.get("not_run"):
-            lines.append(f"{'':<{width}}    | {r['output']}")
-        elif not r["passed"]:
+        if r["passed"]:
+            continue
+        if view["cause"]:
+            lines.append(f"{'':<{width}}    | stopped on the same {view['cause']['kind']} (above)")
+            continue
+        if view["hint"]:
             lines.append(f"{'':<{width}}    hint: {r['hint']}")
-            for line in r["output"].splitlines()[:6]:
-                lines.append(f"{'':<{width}}    | {line}")
+        for line in view["message"].splitlines()[:6]:
+            lines.append(f"{'':<{width}}    | {line}")
+    for key, rs in views["groups"]:
+        lines.append(_group_line(key, rs))
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
-    passed = sum(r["passed"] for r in results)
-    not_run = sum(bool(r.get("not_run")) for r in results)
-    lines.append(f"total: {total:g} / {maximum:g} points ({passed} of {len(results)} tests passed)")
-    lines.append(f"{passed} passed, {len(results) - passed} failed" + (f" ({not_run} not run)" if not_run else ""))
+    lines.append(f"total: {total:g} / {maximum:g} points")
+    lines.append(count_line(results))
     return "\n".join(lines)
 
 
+def test_message(r, view):
+    """The message of one test where each test is shown alone (Gradescope, JUnit)."""
+    if r["passed"]:
+        return "passed"
+    if view.get("short") and not (view["cause"] and view["cause"]["first"] == r["name"]):
+        return view["short"]
+    message = view["message"]
+    if view["cause"]:
+        message = f"{message}\n({view['cause']['text'].splitlines()[-1].strip()})" if view["cause"]["kind"] == "failed assertion" else message
+    return f"{message}\nhint: {r['hint']}".strip() if view["hint"] else message
+
+
 def gradescope(results, seconds, hidden_visibility="after_published", notes=""):
+    views = analyse(results)
     tests = []
     for r in results:
-        if r["passed"]:
-            output = "passed"
-        elif r.get("not_run"):
-            output = r["output"]
-        else:
-            output = f"{r['output']}\nhint: {r['hint']}".strip()
         tests.append({"name": r["name"], "score": r["score"], "max_score": r["points"],
-                      "status": "passed" if r["passed"] else "failed", "output": output,
+                      "status": "passed" if r["passed"] else "failed", "output": test_message(r, views[r["name"]]),
                       "visibility": hidden_visibility if r.get("hidden") else "visible"})
     # The grader's own printout repeats hidden tests' names and messages: students never see it.
     stdout = "hidden" if any(r.get("hidden") for r in results) else "visible"
     data = {"score": sum(r["score"] for r in results), "max_score": sum(r["points"] for r in results),
             "execution_time": round(seconds, 3), "visibility": "visible", "stdout_visibility": stdout,
             "tests": tests}
-    if notes:
-        data["output"] = notes
+    said = "\n".join(n for n in ([c["text"] for c in views["causes"]] + [notes]) if n)
+    if said:
+        data["output"] = said
     return data
 
 
@@ -69,6 +235,7 @@ def _xml_text(text):
 
 
 def junit(results, label):
+    views = analyse(results)
     suites = ET.Element("testsuites", name=f"Game Physics Lab autograder ({label})")
     for ws in sorted({r["worksheet"] for r in results}):
         rs = [r for r in results if r["worksheet"] == ws]
@@ -84,8 +251,11 @@ def junit(results, label):
             if r.get("not_run"):
                 ET.SubElement(case, "skipped", message=_xml_text(r["output"]))
             elif not r["passed"]:
-                failure = ET.SubElement(case, "failure", message=_xml_text(r["hint"]))
-                failure.text = _xml_text(r["output"])
+                view = views[r["name"]]
+                text = test_message(r, view)
+                failure = ET.SubElement(case, "failure",
+                                        message=_xml_text(r["hint"] if view["hint"] else text.splitlines()[0]))
+                failure.text = _xml_text(text)
     return ET.tostring(suites, encoding="unicode", xml_declaration=True)
 
 

@@ -591,6 +591,17 @@ def _runner_signal(pair, isolated):
     return None
 
 
+# How a message begins when the test did not fail on its own assertions: the engine crashed, broke
+# a limit or did not answer (the reports show no hint for these: the message says what happened).
+ENGINE_FAILURES = ("timed out after", "printed more than", "used more than", "ran more than", "tried to ",
+                   "wrote more than", "overflowed its stack", "crashed with", "the engine did not answer",
+                   "the engine exited", "the checker ended", "the checker failed", "wrote into the lab's",
+                   "ran out of memory", "could not be graded", SANITIZER_MARK)
+
+
+OPEN_HOOKS = "hooks still not implemented:"
+
+
 def verdict(test, pair, limits, folder, isolated=None):
     """(passed, message): the checker's report decides; the engine's fate and the limits say why a
     test failed, naming the hook the checker had in flight."""
@@ -664,6 +675,13 @@ def verdict(test, pair, limits, folder, isolated=None):
         return False, "\n".join([f"the checker ended (status {pair.checker_rc}) without a report{where}", *own, tail]).strip()
     if any("std::bad_alloc" in m for m in failures):
         failures.insert(0, f"ran out of memory{where}: an allocation failed (std::bad_alloc)")
+    # A test of its own engines has no fixture note: the engine's own report of the stubs it ran
+    # ("not implemented: X()", untrusted: hooks only, and it only words a failure) says the same.
+    if not any(m.startswith(OPEN_HOOKS) for m in failures):
+        known = set(hook_names().values())
+        reported = sorted({m.group(1) for m in re.finditer(r"^not implemented: (\S+\(\))$", pair.output, re.M)} & known)
+        if reported:
+            failures.insert(0, f"{OPEN_HOOKS} {' '.join(reported)}")
     # The fixture's "hooks still not implemented" note says the most: show it first.
     failures.sort(key=lambda m: not m.startswith("hooks still not implemented"))
     return False, "\n".join(failures) or f"the checker failed (status {pair.checker_rc}){where}"
@@ -686,7 +704,9 @@ def with_prerequisites(tests, name):
 def select(tests, worksheet):
     picked = [t for t in tests if worksheet is None or t["worksheet"] == worksheet]
     if not picked:
-        raise GradeError(f"no graded tests for worksheet {worksheet}")
+        known = sorted({t["worksheet"] for t in tests})
+        raise GradeError(f"no graded tests for worksheet {worksheet}; the worksheets with graded tests: "
+                         + ", ".join(map(str, known)))
     return picked
 
 
