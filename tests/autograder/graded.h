@@ -63,18 +63,24 @@ inline Option hidden() { return {Option::Kind::Hidden, 0.0, nullptr}; }
 
 /// Steps `engine` n times, as n calls of engine.step() would, with one request to the submission's
 /// engine for many steps at once; after step k (1..n) calls each(k), which reads the engine (never
-/// changes it) and returns false to stop there. A body no longer finite, or a hook's exception,
+/// changes it). A failure in each() (an EXPECT or an ASSERT) ends the run after that step, as an
+/// ASSERT in a loop of step() would end the loop. A body no longer finite, or a hook's exception,
 /// throws as step() does. For long runs checked after every step.
-void steps(PhysicsEngine& engine, int n, const std::function<bool(int)>& each);
+void steps(PhysicsEngine& engine, int n, const std::function<void(int)>& each);
 
 /// positionVerlet or velocityVerlet, as graded tests call them.
 using IntegratorKernel = void (*)(ParticleState&, const AccelerationFunction&, double);
 
 /// Takes n steps of h with the kernel from `state` under `force`, as n calls of kernel(state, force,
 /// h) would, with one request to the submission's engine for many steps (it evaluates the force
-/// itself); after step k (1..n) calls each(k), which reads `state` and returns false to stop there.
+/// itself); after step k (1..n) calls each(k), which reads `state`; a failure in it ends the run.
 void integratorSteps(IntegratorKernel kernel, ParticleState& state, const LinearForce& force, double h, int n,
-                     const std::function<bool(int)>& each);
+                     const std::function<void(int)>& each);
+
+/// Takes n steps of h with integrateRotation() of `body`, as n calls of integrateRotation(body, h)
+/// would, with one request for many steps; after step k (1..n) calls each(k), which reads `body`; a
+/// failure in it ends the run.
+void rotationSteps(Body& body, double h, int n, const std::function<void(int)>& each);
 
 /// Registers a graded test; returns true so it can initialise a static.
 bool registerTest(const char* suite, const char* name, double points, const char* hint,

@@ -117,7 +117,6 @@ protected:
             const double deviation = std::abs(oscillatorEnergy(s) / e0 - 1.0);
             if (i < n / 10) firstTenth = std::max(firstTenth, deviation);
             if (i >= n - n / 10) lastTenth = std::max(lastTenth, deviation);
-            return true;
         });
         // Two zero crossings per period: n h omega / pi = 1.6e4 (Verlet runs 1 % fast at h omega = 0.5).
         const double expected = n * h * kOmega / M_PI;

@@ -482,8 +482,7 @@ GRADED_TEST(Worksheet3, SlidesDownTiltedPlane, 2,
         // Along the plane the ball falls freely with g_t = g - (g.n) n: the discrete semi-implicit Euler
         // fall of worksheet 1, x_k = x_0 + k h v_0 + k(k+1)/2 h^2 g_t.
         const Vec3 g = engine.gravity(), gt = g - g.dot(n) * n;
-        for (int k = 1; k <= 200; ++k) {
-            engine.step();
+        grading::steps(engine, 200, [&](int k) {
             const Body& ball = engine.body("ball");
             const Vec3 x = x0 + k * h * v0 + 0.5 * k * (k + 1) * h * h * gt, v = v0 + k * h * gt;
             // 200 steps of roundings of ~1e-15 m (positions of ~10 m), the velocity's divided by h:
@@ -494,7 +493,8 @@ GRADED_TEST(Worksheet3, SlidesDownTiltedPlane, 2,
                 << r << " m)\n  plane: " << str(slope);
             ASSERT_LE((ball.velocity - v).norm(), 1e-8 * (1.0 + v.norm()))
                 << "step " << k << ": velocity " << str(ball.velocity) << ", expected " << str(v);
-        }
+        });
+        if (HasFailure()) return;
         EXPECT_TRUE(engine.bodies()[0].position == slope.position) << "the static plane moved";
     }
 }
@@ -518,14 +518,14 @@ GRADED_TEST(Worksheet3, CollisionsConserveMomentum, 2,
     double scale = 0.0;  // kg m/s
     for (const Body& b : engine.bodies()) scale += b.mass * b.velocity.norm();
     int contacts = 0;
-    for (int k = 1; k <= 300; ++k) {
-        engine.step();
+    grading::steps(engine, 300, [&](int k) {
         contacts += static_cast<int>(engine.contacts().size());
         // Positions of ~3 m round to ~1e-15 m, which dx / h turns into ~1e-13 m/s per contact and step:
         // over 300 steps far below 1e-10 of the momenta; an equal split is off by ~m depth / h.
         ASSERT_LE((engine.linearMomentum() - p0).norm(), 1e-10 * scale)
             << "step " << k << ": total momentum " << str(engine.linearMomentum()) << ", at the start " << str(p0);
-    }
+    });
+    if (HasFailure()) return;
     // The balls are drawn anew in every run; a handful of contacts already tests the shares.
     EXPECT_GT(contacts, 5) << "the balls hardly collided (" << contacts << " contacts in 300 steps)";
 }
@@ -541,8 +541,7 @@ GRADED_TEST(Worksheet3, NoTunnellingWhileStepBelowRadius, 3,
         const std::vector<Body> start = engine.bodies();
         const double h = engine.timeStep();
         int contacts = 0;
-        for (int k = 1; k <= 1000; ++k) {
-            engine.step();
+        grading::steps(engine, 1000, [&](int k) {
             contacts += static_cast<int>(engine.contacts().size());
             for (const Body& s : engine.bodies()) {
                 if (s.shape != Shape::Sphere) continue;
@@ -557,7 +556,8 @@ GRADED_TEST(Worksheet3, NoTunnellingWhileStepBelowRadius, 3,
                         << str(p) << ": it went through";
                 }
             }
-        }
+        });
+        if (HasFailure()) return;
         EXPECT_GT(contacts, 0) << "scene '" << name << "': no contact in 1000 steps";
         for (std::size_t i = 0; i < start.size(); ++i) {
             const Body& b = engine.bodies()[i];

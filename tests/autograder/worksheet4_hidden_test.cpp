@@ -67,7 +67,7 @@ GRADED_TEST(Worksheet4Hidden, HeadOnCollisionMatchesClosedForm, 2,
             const double va = rnd.uniform(1.0, 3.0), vb = -rnd.uniform(0.0, 3.0);  // along the axis (m/s)
             engine.add(sphere("a", 0.3, ma).at(start).moving(va * axis).bouncy(e));
             engine.add(sphere("b", 0.4, mb).at(start + 1.5 * axis).moving(vb * axis).bouncy(1.0));
-            for (int k = 0; k < 150; ++k) engine.step();  // 1.5 s: they close 0.8 m at 1 m/s or more
+            grading::steps(engine, 150, [](int) {});  // 1.5 s: they close 0.8 m at 1 m/s or more
             const double p = ma * va + mb * vb;
             const double va1 = (p - mb * e * (va - vb)) / (ma + mb), vb1 = (p - ma * e * (vb - va)) / (ma + mb);
             // One impulse, exact to rounding of speeds of a few m/s (1e-12 of them); a mistake in the

@@ -49,10 +49,8 @@ GRADED_TEST(Worksheet6Hidden, RotationSameInATurnedWorld, 2,
         const Quat R = rnd.rotation();
         Body c = carried(b, R, rnd.inBox(50.0));
         const Body before = b;
-        for (int k = 0; k < 20; ++k) {
-            integrateRotation(b, 0.01);
-            integrateRotation(c, 0.01);
-        }
+        grading::rotationSteps(b, 0.01, 20, [](int) {});
+        grading::rotationSteps(c, 0.01, 20, [](int) {});
         changes += b.orientation.coeffs() != before.orientation.coeffs();
         // 20 steps, each rounding to ~1e-16; turned vectors and quaternions add a few ulps.
         const double tol = 1e-12 * speeds(before);

@@ -485,14 +485,14 @@ GRADED_TEST(Worksheet7, BlockStaysOnGentleIncline, 3,
         const double slope = degrees * M_PI / 180.0;
         incline(e, slope, 0.6, 0.5);  // tan 25 = 0.47 < 0.6
         const Vec3 start = e.body("block").position;
-        for (int k = 1; k <= 300; ++k) {
-            e.step();
+        grading::steps(e, 300, [&](int k) {
             const Body& b = e.body("block");
             // Gravity moves the block by g h^2 = 1 mm in a step before the stages answer; it must not add up.
             ASSERT_LE((b.position - start).norm(), 1e-3)
                 << "step " << k << ": the block moved from " << str(start) << " to " << str(b.position) << " on a slope of "
                 << degrees << " degrees with mu_s = 0.6 (tan = " << std::tan(slope) << "): static friction must hold it";
-        }
+        });
+        if (HasFailure()) return;
     }
 }
 
@@ -508,7 +508,7 @@ GRADED_TEST(Worksheet7, BlockSlidesDownSteepIncline, 3,
         const Vec3 down(-std::cos(slope), -std::sin(slope), 0.0);
         const double g = e.gravity().norm(), h = e.timeStep();
         const double a = g * (std::sin(slope) - mud * std::cos(slope));  // m/s^2
-        for (int k = 1; k <= 150; ++k) e.step();
+        grading::steps(e, 150, [](int) {});
         const double t = 150 * h, v = e.body("block").velocity.dot(down);
         // Semi-implicit Euler at a constant acceleration is exact, and so is mu_d j_n once j_n is the weight's
         // normal part; the first steps' settling costs at most one step's change, a h, of the speed a t.
@@ -535,8 +535,7 @@ GRADED_TEST(Worksheet7, SlidingBallEndsRolling, 3,
     const double rolling = 2.0 * v0 / (7.0 * mu * g);  // s
     double rolledAt = -1.0;
     double k0 = kineticEnergy(e.body("ball")), v = v0;
-    for (int k = 1; k <= 200; ++k) {
-        e.step();
+    grading::steps(e, 200, [&](int k) {
         const Body& b = e.body("ball");
         // Sliding friction takes mu g h off the speed each step; rolling, nothing.
         if (rolledAt < 0.0 && std::abs(b.velocity.x() - v) < 0.01 * mu * g * h) rolledAt = k * h;
@@ -547,7 +546,8 @@ GRADED_TEST(Worksheet7, SlidingBallEndsRolling, 3,
         ASSERT_LE(k1, k0 + 1e-9 * k0) << "step " << k << ": kinetic energy rose from " << k0 << " J to " << k1
                                        << " J: friction must never add energy";
         k0 = k1;
-    }
+    });
+    if (HasFailure()) return;
     const Body& b = e.body("ball");
     // The slip falls by 7/2 mu g h per step: it stops within a step of the closed form.
     EXPECT_NEAR(rolledAt, rolling, 1.5 * h) << "the ball stopped slipping at " << rolledAt << " s; expected 2 v0 / (7 mu g) = "
@@ -572,8 +572,7 @@ GRADED_TEST(Worksheet7, BoxRestsWithoutJitter, 3,
     e.add(box("box", half, 3.0).at({1.0, half.y(), -0.5}).rotated(Quat(Eigen::AngleAxisd(0.6, Vec3::UnitY()))).bouncy(0.5));
     const Body start = e.body("box");
     const double g = e.gravity().norm(), h = e.timeStep();
-    for (int k = 1; k <= 500; ++k) {
-        e.step();
+    grading::steps(e, 500, [&](int k) {
         const Body& b = e.body("box");
         // Each step gravity adds g h downwards before the stages answer; at rest the stage takes it back to
         // rounding. A bounce, even of e g h, leaves percents of g h.
@@ -583,7 +582,8 @@ GRADED_TEST(Worksheet7, BoxRestsWithoutJitter, 3,
         // Interpenetration lifts the box out of the floor by the g h^2 it sank: within a hundredth of that.
         ASSERT_LE((b.position - start.position).norm(), 1e-2 * g * h * h)
             << "step " << k << ": the box has moved from " << str(start.position) << " to " << str(b.position);
-    }
+    });
+    if (HasFailure()) return;
 }
 
 GRADED_TEST(Worksheet7, SmallStackStands, 2,
@@ -600,11 +600,11 @@ GRADED_TEST(Worksheet7, SmallStackStands, 2,
     }
     const std::vector<Body> start = e.bodies();
     double fastest = 0.0;
-    for (int k = 1; k <= 500; ++k) {
-        e.step();
-        if (k <= 100) continue;  // the first second: the stack settles by a millimetre
+    grading::steps(e, 500, [&](int k) {
+        if (k <= 100) return;  // the first second: the stack settles by a millimetre
         for (const Body& b : e.bodies()) fastest = std::max(fastest, b.velocity.norm());
-    }
+    });
+    if (HasFailure()) return;
     const double g = e.gravity().norm(), h = e.timeStep();
     // At rest the stage takes back gravity's g h each step; a percent of it is what the sweeps leave of it in
     // a stack of three.

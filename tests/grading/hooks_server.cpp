@@ -252,6 +252,38 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             out.append(failure);
             return;
         }
+        case Call::RotationSteps: {
+            // Steps of integrateRotation() of one body; each step's motion answered. The first
+            // exception, or a state no longer finite, ends them.
+            Body b = in.body();
+            const double h = in.number();
+            const std::uint32_t n = in.u32();
+            in.end();
+            const std::size_t countAt = out.size();
+            out.u32(0);
+            std::uint32_t done = 0;
+            Writer failure;
+            failure.u8(0);
+            for (; done < n; ++done) {
+                try {
+                    integrateRotation(b, h);
+                } catch (const std::exception& ex) {
+                    failure.clear();
+                    failure.u8(1);
+                    failure.u8(static_cast<std::uint8_t>(kindOf(ex)));
+                    failure.text(ex.what());
+                    break;
+                }
+                EngineAccess::writeMotion(out, b);
+                if (!b.orientation.coeffs().allFinite() || !b.angularVelocity.allFinite()) {
+                    ++done;
+                    break;
+                }
+            }
+            out.patchU32(countAt, done);
+            out.append(failure);
+            return;
+        }
         case Call::PositionVerlet:
         case Call::VelocityVerlet: {
             ParticleState s = in.particles();

@@ -32,6 +32,7 @@ const char* callName(Call call) {
         case Call::ApplyWarmStart: return "applyWarmStart()";
         case Call::Steps: return "simulationTimestep()";
         case Call::IntegratorSteps: return "an integrator kernel";
+        case Call::RotationSteps: return "integrateRotation()";
         case Call::End: break;
     }
     return "an unknown hook";

@@ -53,6 +53,7 @@ enum class Call : std::uint8_t {
     ApplyWarmStart,
     Steps,            ///< whole steps of the engine, simulationTimestep() in each (graded.h: grading::steps())
     IntegratorSteps,  ///< steps of an integrator kernel under a LinearForce (graded.h: grading::integratorSteps())
+    RotationSteps,    ///< steps of integrateRotation() of one body (graded.h: grading::rotationSteps())
     End               ///< one past the last
 };
 
