@@ -56,8 +56,8 @@ inline std::string str(const std::optional<Contact>& c) {
     return out.str();
 }
 
-/// The run's part of every seed: drawn anew for each run of the checker (the trusted side), so that
-/// no submission can know its inputs beforehand; GPL_CHECKER_SEED=N repeats a run (graded.cpp).
+/// The run's part of every seed: 0, so that a submission graded twice gets the same inputs and the
+/// same score; GPL_CHECKER_SEED=N draws other inputs (graded.cpp), to try the tests on many.
 std::uint32_t runSeed();
 
 /// Uniform numbers from std::mt19937, whose output the standard fixes: with the same seeds, the same
