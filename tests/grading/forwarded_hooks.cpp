@@ -96,6 +96,40 @@ void engineCall(Call call, PhysicsEngine& mirror) {
 
 namespace grading {
 
+namespace {
+
+/// Reads a batched answer: its count of steps (at most `asked`), each step's record read by `step`
+/// (which returns false when the test's checks failed: the rest is not read), then whether a hook
+/// threw and the hooks still open. False when `step` stopped the run; rethrows what a hook threw;
+/// an answer that does not parse ends the submission for this test.
+bool readSteps(Call call, Reader& r, std::uint32_t asked, const std::function<bool()>& step) {
+    std::uint8_t threw = 0, kind = 0;
+    std::string message;
+    try {
+        const std::uint32_t done = r.u32();
+        if (done > asked) throw ProtocolError("more steps than were asked for");
+        for (std::uint32_t s = 0; s < done; ++s) {
+            if (!step()) return false;
+        }
+        threw = r.u8();
+        if (threw > 1) throw ProtocolError("an answer that neither threw nor did not");
+        if (threw) {
+            kind = r.u8();
+            if (kind < 1 || kind >= static_cast<std::uint8_t>(Thrown::End)) throw ProtocolError("an unknown exception");
+            message = r.text();
+        }
+        r.texts();
+        r.end();
+        if (done == 0 && !threw) throw ProtocolError("no step was made");
+    } catch (const ProtocolError& e) {
+        endNow(call, e.what());
+    }
+    if (threw) rethrow(static_cast<Thrown>(kind), message);
+    return true;
+}
+
+}  // namespace
+
 void steps(PhysicsEngine& mirror, int n, const std::function<void(int)>& each) {
     // Steps of one request: as many as about a megabyte of answers holds (a thousand bodies: six),
     // which stays in the processor's caches.
@@ -103,55 +137,31 @@ void steps(PhysicsEngine& mirror, int n, const std::function<void(int)>& each) {
     const std::size_t perStep = 180 * std::max<std::size_t>(1, EngineAccess::bodies(mirror).size()) + 64;
     const int batch = static_cast<int>(std::clamp<std::size_t>((1u << 20) / perStep, 1, 1000));
     int k = 0;
+    std::string answer;  // a copy of each answer, its memory kept from batch to batch: each(k) may ask for hooks too
     while (k < n) {
-        const int asked = std::min(batch, n - k);
+        const auto asked = static_cast<std::uint32_t>(std::min(batch, n - k));
         const bool fresh = heldFor != &mirror || mirror.stepCount() < heldSteps;
         const bool send = fresh || !EngineAccess::sameBodies(heldBodies, heldPrevious, mirror);
         Writer w;
         w.u8(fresh ? 1 : 0);
-        w.u32(static_cast<std::uint32_t>(asked));
+        w.u32(asked);
         EngineAccess::writeWorld(w, mirror, send);
         heldFor = nullptr;  // until every step of the answer has been taken
-        // Its own copy of the answer (memory kept from batch to batch): each(k) may ask for hooks too.
-        static std::string answer;
         answer = request(Call::Steps, w.bytes());
         Reader r(answer, 1);
-        std::uint32_t done = 0;
-        std::uint8_t threw = 0, kind = 0;
-        std::string message;
-        bool stop = false;
-        try {
-            done = r.u32();
-            if (done > static_cast<std::uint32_t>(asked)) throw ProtocolError("more steps than were asked for");
-            for (std::uint32_t s = 0; s < done && !stop; ++s) {
-                EngineAccess::beginStep(mirror);
-                EngineAccess::readChanges(r, mirror);
-                const std::vector<std::string> open = r.texts();
-                for (const std::string& hook : open) {
-                    for (int c = 1; c < static_cast<int>(Call::End); ++c) {
-                        if (hook == callName(static_cast<Call>(c))) mirror.notImplemented(hook);
-                    }
+        const bool whole = readSteps(Call::Steps, r, asked, [&] {
+            EngineAccess::beginStep(mirror);
+            EngineAccess::readChanges(r, mirror);
+            for (const std::string& hook : r.texts()) {
+                for (int c = 1; c < static_cast<int>(Call::End); ++c) {
+                    if (hook == callName(static_cast<Call>(c))) mirror.notImplemented(hook);
                 }
-                EngineAccess::endStep(mirror);  // the checker's clock and its check that bodies are finite
-                ++k;
-                each(k);
-                stop = ::testing::Test::HasFailure();
             }
-            if (stop) return;  // the submission's engine is ahead of the mirror now: a later request starts afresh
-            threw = r.u8();
-            if (threw > 1) throw ProtocolError("an answer that neither threw nor did not");
-            if (threw) {
-                kind = r.u8();
-                if (kind < 1 || kind >= static_cast<std::uint8_t>(Thrown::End)) throw ProtocolError("an unknown exception");
-                message = r.text();
-            }
-            r.texts();
-            r.end();
-            if (done == 0 && !threw) throw ProtocolError("no step was made");
-        } catch (const ProtocolError& e) {
-            endNow(Call::Steps, e.what());
-        }
-        if (threw) rethrow(static_cast<Thrown>(kind), message);
+            EngineAccess::endStep(mirror);  // the checker's clock and its check that bodies are finite
+            each(++k);
+            return !::testing::Test::HasFailure();
+        });
+        if (!whole) return;  // the submission's engine is ahead of the mirror now: a later request starts afresh
         heldBodies = EngineAccess::bodies(mirror);
         heldPrevious = EngineAccess::previousPositions(mirror);
         heldFor = &mirror;
@@ -169,8 +179,9 @@ void integratorSteps(IntegratorKernel kernel, ParticleState& state, const Linear
     const std::size_t perStep = 100 * std::max<std::size_t>(1, particles) + 16;
     const int batch = static_cast<int>(std::clamp<std::size_t>((1u << 20) / perStep, 1, 5000));
     int k = 0;
+    std::string answer;  // a copy of each answer, its memory kept from batch to batch: each(k) may ask for hooks too
     while (k < n) {
-        const int asked = std::min(batch, n - k);
+        const auto asked = static_cast<std::uint32_t>(std::min(batch, n - k));
         Writer w;
         w.u8(static_cast<std::uint8_t>(which));
         w.particles(state);
@@ -178,80 +189,41 @@ void integratorSteps(IntegratorKernel kernel, ParticleState& state, const Linear
         w.number(force.k);
         w.number(force.c);
         w.number(h);
-        w.u32(static_cast<std::uint32_t>(asked));
-        static std::string answer;  // its own copy: each(k) may ask for hooks too
+        w.u32(asked);
         answer = request(Call::IntegratorSteps, w.bytes());
         Reader r(answer, 1);
-        std::uint8_t threw = 0, kind = 0;
-        std::string message;
-        try {
-            const std::uint32_t done = r.u32();
-            if (done > static_cast<std::uint32_t>(asked)) throw ProtocolError("more steps than were asked for");
-            for (std::uint32_t s = 0; s < done; ++s) {
-                ParticleState next = r.particles();
-                if (next.x.size() != particles || next.v.size() != particles || next.a.size() != particles ||
-                    (!next.xPrev.empty() && next.xPrev.size() != particles)) {
-                    throw ProtocolError("the kernel answered with another number of particles");
-                }
-                state = std::move(next);
-                ++k;
-                each(k);
-                if (::testing::Test::HasFailure()) return;
+        const bool whole = readSteps(which, r, asked, [&] {
+            ParticleState next = r.particles();
+            if (next.x.size() != particles || next.v.size() != particles || next.a.size() != particles ||
+                (!next.xPrev.empty() && next.xPrev.size() != particles)) {
+                throw ProtocolError("the kernel answered with another number of particles");
             }
-            threw = r.u8();
-            if (threw > 1) throw ProtocolError("an answer that neither threw nor did not");
-            if (threw) {
-                kind = r.u8();
-                if (kind < 1 || kind >= static_cast<std::uint8_t>(Thrown::End)) throw ProtocolError("an unknown exception");
-                message = r.text();
-            }
-            r.texts();
-            r.end();
-            if (done == 0 && !threw) throw ProtocolError("no step was made");
-        } catch (const ProtocolError& e) {
-            endNow(which, e.what());
-        }
-        if (threw) rethrow(static_cast<Thrown>(kind), message);
+            state = std::move(next);
+            each(++k);
+            return !::testing::Test::HasFailure();
+        });
+        if (!whole) return;
     }
 }
 
 void rotationSteps(Body& body, double h, int n, const std::function<void(int)>& each) {
     const int batch = 5000;  // about a megabyte of answers
     int k = 0;
+    std::string answer;  // a copy of each answer, its memory kept from batch to batch: each(k) may ask for hooks too
     while (k < n) {
-        const int asked = std::min(batch, n - k);
+        const auto asked = static_cast<std::uint32_t>(std::min(batch, n - k));
         Writer w;
         w.body(body);
         w.number(h);
-        w.u32(static_cast<std::uint32_t>(asked));
-        static std::string answer;  // its own copy: each(k) may ask for hooks too
+        w.u32(asked);
         answer = request(Call::RotationSteps, w.bytes());
         Reader r(answer, 1);
-        std::uint8_t threw = 0, kind = 0;
-        std::string message;
-        try {
-            const std::uint32_t done = r.u32();
-            if (done > static_cast<std::uint32_t>(asked)) throw ProtocolError("more steps than were asked for");
-            for (std::uint32_t s = 0; s < done; ++s) {
-                EngineAccess::readMotion(r, body);
-                ++k;
-                each(k);
-                if (::testing::Test::HasFailure()) return;
-            }
-            threw = r.u8();
-            if (threw > 1) throw ProtocolError("an answer that neither threw nor did not");
-            if (threw) {
-                kind = r.u8();
-                if (kind < 1 || kind >= static_cast<std::uint8_t>(Thrown::End)) throw ProtocolError("an unknown exception");
-                message = r.text();
-            }
-            r.texts();
-            r.end();
-            if (done == 0 && !threw) throw ProtocolError("no step was made");
-        } catch (const ProtocolError& e) {
-            endNow(Call::RotationSteps, e.what());
-        }
-        if (threw) rethrow(static_cast<Thrown>(kind), message);
+        const bool whole = readSteps(Call::RotationSteps, r, asked, [&] {
+            EngineAccess::readMotion(r, body);
+            each(++k);
+            return !::testing::Test::HasFailure();
+        });
+        if (!whole) return;
     }
 }
 

@@ -149,6 +149,36 @@ Thrown kindOf(const std::exception& e) {
     return Thrown::Other;
 }
 
+/// Answers a batched run: up to n steps, each made by `step` and answered by `write`, ended early
+/// by the first exception (answered after the steps, with its kind and message) or by a state that
+/// `finite` finds no longer finite. The count comes first, patched in once it is known.
+template <class Step, class Write, class Finite>
+void answerSteps(Writer& out, std::uint32_t n, Step step, Write write, Finite finite) {
+    const std::size_t countAt = out.size();
+    out.u32(0);
+    std::uint32_t done = 0;
+    Writer failure;
+    failure.u8(0);
+    for (; done < n; ++done) {
+        try {
+            step();
+        } catch (const std::exception& ex) {
+            failure.clear();
+            failure.u8(1);
+            failure.u8(static_cast<std::uint8_t>(kindOf(ex)));
+            failure.text(ex.what());
+            break;
+        }
+        write();
+        if (!finite()) {
+            ++done;
+            break;
+        }
+    }
+    out.patchU32(countAt, done);
+    out.append(failure);
+}
+
 /// Calls the hook the request names with its inputs; writes its outputs.
 void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& held) {
     switch (call) {
@@ -173,33 +203,19 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             const std::uint32_t n = in.u32();
             PhysicsEngine& e = *held;
             EngineAccess::readWorld(in, e);
-            out.reserve(out.size() + n * (160 * e.bodies().size() + 64));
-            const std::size_t countAt = out.size();
-            out.u32(0);
-            std::uint32_t done = 0;
-            Writer failure;
-            failure.u8(0);
-            for (; done < n; ++done) {
-                EngineAccess::beginStep(e);
-                try {
+            out.reserve(out.size() + n * (180 * e.bodies().size() + 64));
+            answerSteps(
+                out, n,
+                [&] {
+                    EngineAccess::beginStep(e);
                     e.simulationTimestep();
-                } catch (const std::exception& ex) {
-                    failure = Writer();
-                    failure.u8(1);
-                    failure.u8(static_cast<std::uint8_t>(kindOf(ex)));
-                    failure.text(ex.what());
-                    break;
-                }
-                EngineAccess::writeChanges(out, e);
-                out.texts(openHooks(e));
-                EngineAccess::advanceClock(e);
-                if (!e.allFinite()) {
-                    ++done;
-                    break;
-                }
-            }
-            out.patchU32(countAt, done);
-            out.append(failure);
+                    EngineAccess::advanceClock(e);
+                },
+                [&] {
+                    EngineAccess::writeChanges(out, e);
+                    out.texts(openHooks(e));
+                },
+                [&] { return e.allFinite(); });
             return;
         }
         case Call::IntegratorSteps: {
@@ -219,37 +235,23 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             const std::uint32_t n = in.u32();
             in.end();
             const AccelerationFunction accel = force;
-            const std::size_t countAt = out.size();
-            out.u32(0);
-            std::uint32_t done = 0;
-            Writer failure;
-            failure.u8(0);
-            for (; done < n; ++done) {
-                try {
+            answerSteps(
+                out, n,
+                [&] {
                     if (which == static_cast<std::uint8_t>(Call::PositionVerlet)) {
                         positionVerlet(s, accel, h);
                     } else {
                         velocityVerlet(s, accel, h);
                     }
-                } catch (const std::exception& ex) {
-                    failure.clear();
-                    failure.u8(1);
-                    failure.u8(static_cast<std::uint8_t>(kindOf(ex)));
-                    failure.text(ex.what());
-                    break;
-                }
-                out.particles(s);
-                bool finite = true;
-                for (const auto* list : {&s.x, &s.v, &s.a}) {
-                    for (const Vec3& x : *list) finite = finite && x.allFinite();
-                }
-                if (!finite) {
-                    ++done;
-                    break;
-                }
-            }
-            out.patchU32(countAt, done);
-            out.append(failure);
+                },
+                [&] { out.particles(s); },
+                [&] {
+                    bool finite = true;
+                    for (const auto* list : {&s.x, &s.v, &s.a}) {
+                        for (const Vec3& x : *list) finite = finite && x.allFinite();
+                    }
+                    return finite;
+                });
             return;
         }
         case Call::RotationSteps: {
@@ -259,29 +261,9 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             const double h = in.number();
             const std::uint32_t n = in.u32();
             in.end();
-            const std::size_t countAt = out.size();
-            out.u32(0);
-            std::uint32_t done = 0;
-            Writer failure;
-            failure.u8(0);
-            for (; done < n; ++done) {
-                try {
-                    integrateRotation(b, h);
-                } catch (const std::exception& ex) {
-                    failure.clear();
-                    failure.u8(1);
-                    failure.u8(static_cast<std::uint8_t>(kindOf(ex)));
-                    failure.text(ex.what());
-                    break;
-                }
-                EngineAccess::writeMotion(out, b);
-                if (!b.orientation.coeffs().allFinite() || !b.angularVelocity.allFinite()) {
-                    ++done;
-                    break;
-                }
-            }
-            out.patchU32(countAt, done);
-            out.append(failure);
+            answerSteps(
+                out, n, [&] { integrateRotation(b, h); }, [&] { EngineAccess::writeMotion(out, b); },
+                [&] { return b.orientation.coeffs().allFinite() && b.angularVelocity.allFinite(); });
             return;
         }
         case Call::PositionVerlet:
