@@ -250,6 +250,15 @@ void twoBodies(Call call, const Writer& inputs, Body& a, Body& b, PointImpulse* 
     });
 }
 
+/// A kernel of a contact and its two bodies (interpenetration, the impulses of worksheets 4 and 6).
+void contactImpulse(Call call, const Contact& contact, Body& a, Body& b) {
+    Writer w;
+    w.contact(contact);
+    w.body(a);
+    w.body(b);
+    twoBodies(call, w, a, b);
+}
+
 void particleCall(Call call, ParticleState& state, const AccelerationFunction& accel, double h) {
     Writer w;
     w.particles(state);
@@ -301,19 +310,11 @@ std::optional<Contact> ropeContact(const Body& a, const Body& b, double length) 
 }
 
 void resolveInterpenetration(const Contact& contact, Body& a, Body& b) {
-    Writer w;
-    w.contact(contact);
-    w.body(a);
-    w.body(b);
-    twoBodies(Call::ResolveInterpenetration, w, a, b);
+    contactImpulse(Call::ResolveInterpenetration, contact, a, b);
 }
 
 void applyCollisionImpulse(const Contact& contact, Body& a, Body& b) {
-    Writer w;
-    w.contact(contact);
-    w.body(a);
-    w.body(b);
-    twoBodies(Call::ApplyCollisionImpulse, w, a, b);
+    contactImpulse(Call::ApplyCollisionImpulse, contact, a, b);
 }
 
 // ---- Worksheet 6: rotation ----------------------------------------------------------------------
@@ -345,11 +346,7 @@ void applyImpulseAtPoint(Body& a, Body& b, const Vec3& point, const Vec3& impuls
 }
 
 void applyContactImpulse(const Contact& contact, Body& a, Body& b) {
-    Writer w;
-    w.contact(contact);
-    w.body(a);
-    w.body(b);
-    twoBodies(Call::ApplyContactImpulse, w, a, b);
+    contactImpulse(Call::ApplyContactImpulse, contact, a, b);
 }
 
 // ---- Worksheet 7: friction ----------------------------------------------------------------------
