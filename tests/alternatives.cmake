@@ -1,0 +1,1 @@
+# Correct alternatives of the hooks (tests/alternatives/*.json): each a variant that must score full marks.
