@@ -59,6 +59,7 @@ const SceneRegistry& scenes() {
         addWorksheet5Scenes(r);
         addWorksheet6Scenes(r);
         addWorksheet7Scenes(r);
+        addStackingScenes(r);
         addStudentScenes(r);
         return r;
     }();

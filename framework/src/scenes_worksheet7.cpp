@@ -7,11 +7,6 @@
 namespace gpl {
 namespace {
 
-// Worksheet 6's landing and the friction stage, which answers the contacts in place of the impulse stage.
-const StageSet kFriction{Stage::ConstantAcceleration, Stage::Integration,      Stage::Rotation,
-                         Stage::CollisionDetection,   Stage::Interpenetration, Stage::CollisionImpulses,
-                         Stage::Friction};
-
 // The slope of the incline: 25 degrees, tan = 0.466.
 constexpr double kSlope = 25.0 * M_PI / 180.0;
 
@@ -58,10 +53,10 @@ void addWorksheet7Scenes(SceneRegistry& r) {
     // The incline is drawn as a patch of a few metres: the view frames the first 1.5 s, while the
     // sliding box is on it.
     r.add({"incline", "", "Two boxes on a slope of 25 degrees: the one with mu_s above tan 25 stays, the other slides.",
-           7, kFriction, kDefaultTimeStep, incline, Integrator::SemiImplicitEuler, Vec3(1.5, 0.6, 0.0), 7.0, 1.5});
+           7, kFrictionStages, kDefaultTimeStep, incline, Integrator::SemiImplicitEuler, Vec3(1.5, 0.6, 0.0), 7.0, 1.5});
     r.add({"rolling-ball", "", "A ball and a box thrown along the floor: the ball ends rolling at 5/7 of its speed.", 7,
-           kFriction, kDefaultTimeStep, rollingBall, Integrator::SemiImplicitEuler, Vec3(-0.3, 0.5, 0.0), 10.0, 2.5});
-    r.add({"box-stack", "", "Five boxes stacked on the floor: they rest still, without drift or jitter.", 7, kFriction,
+           kFrictionStages, kDefaultTimeStep, rollingBall, Integrator::SemiImplicitEuler, Vec3(-0.3, 0.5, 0.0), 10.0, 2.5});
+    r.add({"box-stack", "", "Five boxes stacked on the floor: they rest still, without drift or jitter.", 7, kFrictionStages,
            kDefaultTimeStep, boxStack, Integrator::SemiImplicitEuler, Vec3(0.0, 1.5, 0.0), 8.0, 10.0});
 }
 

@@ -42,6 +42,12 @@ private:
     std::vector<Scene> scenes_;
 };
 
+/// The stages of a scene with friction and resting contact (worksheet 7 and the stacking scenes):
+/// worksheet 6's landing, with the friction stage answering the contacts in place of the impulses.
+inline const StageSet kFrictionStages{Stage::ConstantAcceleration, Stage::Integration,      Stage::Rotation,
+                                      Stage::CollisionDetection,   Stage::Interpenetration, Stage::CollisionImpulses,
+                                      Stage::Friction};
+
 /// Every scene: the course's and the student's (F11/F12).
 const SceneRegistry& scenes();
 
@@ -57,6 +63,7 @@ void addWorksheet4Scenes(SceneRegistry& registry);
 void addWorksheet5Scenes(SceneRegistry& registry);
 void addWorksheet6Scenes(SceneRegistry& registry);
 void addWorksheet7Scenes(SceneRegistry& registry);
+void addStackingScenes(SceneRegistry& registry);  // the contact solvers' test scenes (worksheet 7)
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl
