@@ -1,5 +1,6 @@
 // gpl-bench: the speed-versus-accuracy study (./lab bench accuracy). Prints tables, writes CSV
 // files and the data files that bench/accuracy.gp turns into plots.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -26,15 +27,19 @@ using study::Output;
 using study::pad;
 using study::sci;
 
+// The integrators the study measures: every one whose hook is written (study::openIntegrators()).
+using Methods = std::vector<Integrator>;
+
 struct Sweep {
     study::Problem problem;
+    Methods methods;
     std::map<Integrator, std::vector<study::Run>> runs;
     std::map<Integrator, study::Order> orders;
 };
 
-Sweep sweep(const study::Problem& p) {
-    Sweep s{p, {}, {}};
-    for (Integrator m : kIntegrators) {
+Sweep sweep(const study::Problem& p, const Methods& methods) {
+    Sweep s{p, methods, {}, {}};
+    for (Integrator m : methods) {
         for (std::size_t n : p.steps) s.runs[m].push_back(study::simulate(p, m, n, true));
         s.orders[m] = study::measuredOrder(p, s.runs[m]);
     }
@@ -58,7 +63,7 @@ void printSweep(const Sweep& s) {
     std::cout << pad("integrator", 21) << pad("order (theory)", 16) << pad("err N=" + std::to_string(n1), 13)
               << pad("err N=" + std::to_string(n2), 13) << pad("err N=" + std::to_string(n3), 13)
               << pad("max|dE/E| N=" + std::to_string(n2), 18) << pad("evals/step", 11) << "ns/step\n";
-    for (Integrator m : kIntegrators) {
+    for (Integrator m : s.methods) {
         const study::Order& o = s.orders.at(m);
         // No run in the asymptotic window: all at rounding (exact) or all still above 1e-2 of the scale.
         const bool exact = runWith(s, m, n1).error < 1e-9 * p.scale;
@@ -75,8 +80,8 @@ void printSweep(const Sweep& s) {
 void writeSweep(Output& out, std::ofstream& csv, std::ofstream& orders, const Sweep& s) {
     const auto& p = s.problem;
     std::ofstream dat = out.open("sweep-" + p.id + ".dat");
-    dat << "# one block per integrator (gnuplot index 0..4): h error evaluations seconds energy_max\n";
-    for (Integrator m : kIntegrators) {
+    dat << "# one block per integrator measured (methods.gp lists them): h error evaluations seconds energy_max\n";
+    for (Integrator m : s.methods) {
         dat << "# " << gpl::integratorId(m) << '\n';
         for (const study::Run& r : s.runs.at(m)) {
             csv << p.id << ',' << gpl::integratorId(m) << ',' << r.steps << ',' << r.h << ',' << r.h * p.omega << ','
@@ -103,7 +108,7 @@ void writeAnchors(Output& out, const std::vector<Sweep>& sweeps) {
     for (const Sweep& s : sweeps) {
         for (int order : {1, 2, 4}) {
             double c = 0.0;
-            for (Integrator m : kIntegrators) {
+            for (Integrator m : s.methods) {
                 if (gpl::theoreticalOrder(m) != order || !s.orders.at(m).points || c != 0.0) continue;
                 for (const study::Run& r : s.runs.at(m)) {
                     if (r.finite && r.error > 0.0 && r.error < 1e-2 * s.problem.scale) {
@@ -119,6 +124,17 @@ void writeAnchors(Output& out, const std::vector<Sweep>& sweeps) {
     }
 }
 
+// The integrators whose blocks the data files hold, in order, as positions in accuracy.gp's list of
+// names (the order of gpl::kIntegrators): measured = "0 1 4" when the Verlet hooks are open.
+void writeMethods(Output& out, const Methods& methods) {
+    std::ofstream gp = out.open("methods.gp");
+    gp << "measured = \"";
+    for (std::size_t i = 0; i < methods.size(); ++i) {
+        gp << (i ? " " : "") << std::find(kIntegrators.begin(), kIntegrators.end(), methods[i]) - kIntegrators.begin();
+    }
+    gp << "\"\n";
+}
+
 void cheapest(const Sweep& s, double target, std::ofstream& csv) {
     std::cout << "\ncheapest way to an error below " << sci(target, 0) << " " << s.problem.unit << " on "
               << s.problem.id << " (runs of the sweep):\n";
@@ -126,7 +142,7 @@ void cheapest(const Sweep& s, double target, std::ofstream& csv) {
               << pad("force evals", 13) << "wall time (us)\n";
     Integrator byEvals = Integrator::ExplicitEuler, byTime = Integrator::ExplicitEuler;
     double bestEvals = INFINITY, bestTime = INFINITY;
-    for (Integrator m : kIntegrators) {
+    for (Integrator m : s.methods) {
         const study::Run* pick = nullptr;
         for (const study::Run& r : s.runs.at(m)) {
             if (r.finite && r.error <= target) {
@@ -152,13 +168,13 @@ void cheapest(const Sweep& s, double target, std::ofstream& csv) {
               << gpl::integratorName(byTime) << " by wall time\n";
 }
 
-void stability(Output& out) {
+void stability(Output& out, const Methods& methods) {
     std::cout << "\nstability: largest stable h*omega on the undamped oscillator (sweep, then bisection)\n";
     std::cout << pad("integrator", 21) << pad("measured", 12) << pad("theory", 12) << "difference\n";
     std::ofstream csv = out.open("stability.csv");
     csv << "integrator,measured_h_omega,theory_h_omega\n";
     const study::Problem p = study::oscillator(1.0);
-    for (Integrator m : kIntegrators) {
+    for (Integrator m : methods) {
         const double measured = study::stabilityLimit(p, m);
         const double theory = study::theoreticalStabilityLimit(m);
         csv << gpl::integratorId(m) << ',' << measured << ',' << theory << '\n';
@@ -173,7 +189,7 @@ void stability(Output& out) {
     }
 }
 
-void longHorizon(Output& out) {
+void longHorizon(Output& out, const Methods& methods) {
     const std::size_t steps = 1000000;
     std::cout << "\nlong horizon: " << steps << " steps, energy E_end/E_0 and largest |E/E_0 - 1|\n";
     std::ofstream csv = out.open("long-horizon.csv");
@@ -188,7 +204,7 @@ void longHorizon(Output& out) {
                  {&orbit, 2.0 * M_PI / 1000.0, "Kepler e = 0.6, 1000 steps per orbit (1000 orbits)"}};
     for (const Case& c : cases) {
         std::cout << c.label << '\n';
-        for (Integrator m : kIntegrators) {
+        for (Integrator m : methods) {
             const study::Run r = study::simulateWithStep(*c.p, m, c.h, steps);
             const double ratio = 1.0 + r.energyDrift;
             csv << c.p->id << ',' << gpl::integratorId(m) << ',' << steps << ',' << c.h << ',' << ratio << ','
@@ -214,11 +230,11 @@ void precision(Output& out) {
     }
 }
 
-void stepExtremes(Output& out) {
+void stepExtremes(Output& out, const Methods& methods) {
     std::cout << "\ntiny and huge steps: oscillator (omega = 2 pi rad/s, 1.3 s), state error (m)\n";
     const study::Problem p = study::oscillator(2.0 * M_PI);
     std::cout << pad("h (s)", 10) << pad("h*omega", 10);
-    for (Integrator m : kIntegrators) std::cout << pad(gpl::integratorId(m), 21);
+    for (Integrator m : methods) std::cout << pad(gpl::integratorId(m), 21);
     std::cout << '\n';
     std::ofstream csv = out.open("step-extremes.csv");
     csv << "h,h_omega,integrator,error\n";
@@ -226,7 +242,7 @@ void stepExtremes(Output& out) {
         const auto steps = static_cast<std::size_t>(std::max(1.0, std::round(p.endTime / h)));
         const double actual = p.endTime / static_cast<double>(steps);
         std::cout << pad(sci(actual, 1), 10) << pad(sci(actual * p.omega, 1), 10);
-        for (Integrator m : kIntegrators) {
+        for (Integrator m : methods) {
             const study::Run r = study::simulate(p, m, steps);
             csv << actual << ',' << actual * p.omega << ',' << gpl::integratorId(m) << ',' << r.error << '\n';
             std::cout << pad(sci(r.error), 21);
@@ -235,7 +251,7 @@ void stepExtremes(Output& out) {
     }
 }
 
-void massRatio(Output& out) {
+void massRatio(Output& out, const Methods& methods) {
     std::cout << "\nmass ratio in a chain of 6 masses and 100 N/m springs: the lightest mass sets the step\n";
     std::ofstream csv = out.open("mass-ratio.csv");
     csv << "masses,omega_max,integrator,limit_h_s,limit_h_omega,theory_h_omega\n";
@@ -245,7 +261,7 @@ void massRatio(Output& out) {
         const study::Problem p = study::springChain(*masses);
         const std::string label = masses == &heavy ? "all 1000 kg" : "1 and 1000 kg alternating";
         std::cout << "masses " << label << ": omega_max = " << fixed(p.omega, 3) << " rad/s\n";
-        for (Integrator m : kIntegrators) {
+        for (Integrator m : methods) {
             const double limit = study::stabilityLimit(p, m);
             csv << label << ',' << p.omega << ',' << gpl::integratorId(m) << ',' << limit / p.omega << ',' << limit
                 << ',' << study::theoreticalStabilityLimit(m) << '\n';
@@ -257,14 +273,14 @@ void massRatio(Output& out) {
     }
 }
 
-void freeFallEnergy(Output& out) {
+void freeFallEnergy(Output& out, const Methods& methods) {
     std::cout << "\nfree fall, energy change per step and unit mass at h = 0.01 s (theory: explicit Euler "
                  "+g^2h^2/2, semi-implicit -g^2h^2/2, Verlet 0)\n";
     std::ofstream csv = out.open("free-fall-energy.csv");
     csv << "integrator,energy_change_per_step,g2h2_over_2\n";
     const study::Problem p = study::freeFall();
     const double h = 0.01, unit = 0.5 * 9.81 * 9.81 * h * h;
-    for (Integrator m : kIntegrators) {
+    for (Integrator m : methods) {
         const study::Run r = study::simulateWithStep(p, m, h, 100);
         const double e0 = std::abs(p.energy(p.x0, p.v0));
         const double perStep = r.energyDrift * e0 / 100.0;
@@ -274,7 +290,7 @@ void freeFallEnergy(Output& out) {
     }
 }
 
-void energyPlots(Output& out) {
+void energyPlots(Output& out, const Methods& methods) {
     struct Case {
         study::Problem p;
         double h;
@@ -283,8 +299,8 @@ void energyPlots(Output& out) {
     const Case cases[] = {{study::oscillator(1.0), 0.1, 6000}, {study::kepler(), 2.0 * M_PI / 200.0, 2000}};
     for (const Case& c : cases) {
         std::ofstream dat = out.open("energy-" + c.p.id + ".dat");
-        dat << "# one block per integrator (gnuplot index 0..4): t |E - E0|/|E0|, h = " << c.h << " s\n";
-        for (Integrator m : kIntegrators) {
+        dat << "# one block per integrator measured (methods.gp lists them): t |E - E0|/|E0|, h = " << c.h << " s\n";
+        for (Integrator m : methods) {
             const std::vector<double> e = study::energyHistory(c.p, m, c.h, c.steps);
             dat << "# " << gpl::integratorId(m) << '\n';
             for (std::size_t i = 0; i < e.size(); i += 5) {
@@ -339,6 +355,22 @@ int main(int argc, char** argv) {
     const auto start = std::chrono::steady_clock::now();
     try {
         Output out(outDir);
+        // Methods whose hook is a stub would measure particles that never move: they are left out.
+        const Methods open = study::openIntegrators();
+        Methods methods;
+        for (Integrator m : kIntegrators) {
+            if (std::find(open.begin(), open.end(), m) == open.end()) methods.push_back(m);
+        }
+        std::cout << "accuracy study with the hooks of " << study::kHookVariant << "/";
+        if (open.empty()) {
+            std::cout << ": every hook it needs is written\n";
+        } else {
+            std::cout << "; hooks not implemented yet:";
+            for (Integrator m : open) std::cout << ' ' << study::hookOf(m);
+            std::cout << "\nskipped until their hooks are written:";
+            for (std::size_t i = 0; i < open.size(); ++i) std::cout << (i ? ", " : " ") << gpl::integratorName(open[i]);
+            std::cout << " (no rows, no curves)\n";
+        }
         std::ofstream csv = out.open("sweep.csv");
         csv << "problem,integrator,steps,h,h_omega,error,energy_max,energy_drift,evaluations_per_step,ns_per_step\n";
         std::ofstream orders = out.open("orders.csv");
@@ -346,29 +378,24 @@ int main(int argc, char** argv) {
         std::vector<Sweep> sweeps;
         for (const study::Problem& p : {study::freeFall(), study::oscillator(2.0 * M_PI), study::pendulum(0.1),
                                         study::pendulum(2.5), study::kepler()}) {
-            sweeps.push_back(sweep(p));
+            sweeps.push_back(sweep(p, methods));
             printSweep(sweeps.back());
             writeSweep(out, csv, orders, sweeps.back());
         }
         writeAnchors(out, sweeps);
+        writeMethods(out, methods);
         std::ofstream cheap = out.open("cheapest.csv");
         cheap << "problem,target,integrator,steps,h,error,evaluations,seconds\n";
         cheapest(sweeps[1], 1e-6, cheap);
         cheapest(sweeps[4], 1e-6, cheap);
-        freeFallEnergy(out);
-        stability(out);
-        massRatio(out);
-        longHorizon(out);
+        freeFallEnergy(out, methods);
+        stability(out, methods);
+        massRatio(out, methods);
+        longHorizon(out, methods);
         precision(out);
-        stepExtremes(out);
-        energyPlots(out);
+        stepExtremes(out, methods);
+        energyPlots(out, methods);
         inputChecks();
-        const std::vector<std::string> open = gpl::kernelsNotImplemented();
-        if (!open.empty()) {
-            std::cout << "\nhooks not implemented yet:";
-            for (const std::string& h : open) std::cout << ' ' << h;
-            std::cout << " (their rows show particles that never move)\n";
-        }
         std::cout << "\nwrote to " << outDir << ":";
         for (const std::string& f : out.written()) std::cout << ' ' << f;
         std::cout << '\n';

@@ -62,6 +62,13 @@ Run simulate(const Problem& p, Integrator method, std::size_t steps, bool timed 
 /// std::invalid_argument on a non-positive or non-finite h or a non-finite start, before stepping.
 Run simulateWithStep(const Problem& p, Integrator method, double h, std::size_t steps, bool timed = false);
 
+/// The student hook the integrator steps with ("positionVerlet()", worksheet 2); empty for the
+/// framework's kernels (explicit and semi-implicit Euler, RK4).
+std::string hookOf(Integrator method);
+/// The integrators whose hook is still a stub in this program, found by one step of each on the
+/// oscillator (a stub records itself, gpl/hooks.h). In display order; empty when all are written.
+std::vector<Integrator> openIntegrators();
+
 /// Relative energy error (E - E0)/|E0| after every step, `steps` steps of h (for plots).
 std::vector<double> energyHistory(const Problem& p, Integrator method, double h, std::size_t steps);
 

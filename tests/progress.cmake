@@ -1,4 +1,5 @@
-# The worksheets' "Before you start" checks, run against variants with the earlier worksheets done.
+# What a student sees part way through the course: the worksheets' "Before you start" checks, run
+# against variants with the earlier worksheets done, and the accuracy study with its hooks open.
 # For each worksheet N the variant progress_worksheetN holds the reference's hook files of the
 # worksheets before N and the stubs of the others (tests/command_line/worksheet_progress.py): the
 # engine of a student who opens worksheet N. Every file equals one of solutions/ or assignments/, so
@@ -30,3 +31,14 @@ endforeach()
 add_test(NAME command_line.worksheets_before_you_start COMMAND ${Python3_EXECUTABLE} -m unittest -v test_worksheets
          WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/command_line)
 set_tests_properties(command_line.worksheets_before_you_start PROPERTIES TIMEOUT 300 ENVIRONMENT "${gpl_progress_env}")
+
+# The accuracy study with the Verlet hooks still stubs (a student before worksheet 2) names them
+# first and skips the two Verlet integrators; with the reference it measures all five.
+add_test(NAME study.accuracy_program_skips_open_hooks
+         COMMAND ${Python3_EXECUTABLE} -m unittest -v test_accuracy_study.WithStubs
+         WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/command_line)
+add_test(NAME study.accuracy_program_measures_everything
+         COMMAND ${Python3_EXECUTABLE} -m unittest -v test_accuracy_study.WithSolutions
+         WORKING_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/command_line)
+set_tests_properties(study.accuracy_program_skips_open_hooks study.accuracy_program_measures_everything PROPERTIES
+  TIMEOUT 600 ENVIRONMENT "GPL_BENCH_ASSIGNMENTS=$<TARGET_FILE:gpl-bench-assignments>;GPL_BENCH_SOLUTIONS=$<TARGET_FILE:gpl-bench-solutions>")
