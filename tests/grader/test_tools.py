@@ -5,6 +5,7 @@ GPL_HOOKS_ASSIGNMENTS."""
 import contextlib
 import io
 import json
+import re
 import os
 import pathlib
 import signal
@@ -447,7 +448,7 @@ class Feedback(unittest.TestCase):
         lines = text.splitlines()
         self.assertEqual(lines[1], "2 tests stopped on the same failed assertion, in integrator():")
         self.assertIn("assignments/integrator.cpp:37: assert(energyAfter <= energyBefore + 1e-12)", lines[2])
-        self.assertIn("explicit Euler's signature (x += h v with the old velocity)", lines[3])
+        self.assertIn("explicit Euler's signature: x += h v with the old velocity", lines[3])
         self.assertEqual(text.count("stopped on the same failed assertion (above)"), 2)
         self.assertEqual(text.count("energyAfter"), 1, text)
         # A different assert (W.G, alone) keeps its own message, without the hint of its test.
@@ -455,6 +456,22 @@ class Feedback(unittest.TestCase):
         self.assertNotIn("hint of W.G", text)
         self.assertEqual(reports.meaning("a.isFinite()").split()[0], "a")
         self.assertEqual(reports.meaning("n > 0"), reports.GENERIC_MEANING)
+
+    def test_the_step_an_assertion_ended_is_named(self):
+        in_step = lambda n: ENERGY_ABORT.replace("in integrator()\n", f"in integrator() in step {n}\n")
+        # The same step everywhere: said once, in the cause's first line.
+        text = reports.table([fake_result("W.A", in_step(1)), fake_result("W.B", in_step(1))], "t")
+        self.assertIn("2 tests stopped on the same failed assertion, in integrator(), in step 1:", text)
+        self.assertEqual(text.count("in step"), 1, text)
+        # Different steps: each test says its own.
+        text = reports.table([fake_result("W.A", in_step(1)), fake_result("W.B", in_step(250))], "t")
+        self.assertIn("2 tests stopped on the same failed assertion, in integrator():", text)
+        self.assertRegex(text, r"W\.A .*\n +\| stopped on the same failed assertion \(above\), in step 1\n")
+        self.assertRegex(text, r"W\.B .*\n +\| stopped on the same failed assertion \(above\), in step 250\n")
+        tests = {t["name"]: t["output"] for t in reports.gradescope(
+            [fake_result("W.A", in_step(1)), fake_result("W.B", in_step(250))], 1.0)["tests"]}
+        self.assertTrue(tests["W.B"].startswith("crashed with SIGABRT (abort: a failed assert or an uncaught "
+                                                "exception) in integrator() in step 250: stopped on the same"))
 
     def test_gradescope_says_the_cause_once_and_each_test_alone(self):
         data = reports.gradescope(self.results(), 1.0, notes="sandbox: bubblewrap")
@@ -523,12 +540,33 @@ class Feedback(unittest.TestCase):
             self.skipTest(f"{engine} is not built")
         results = running.grade_binary(running.Programs(env_path("GPL_CHECKER"), engine, env_path("GPL_LAUNCH")), 1)
         text = reports.table(results, "explicit Euler")
-        self.assertRegex(text, r"\n\d+ tests stopped on the same failed assertion, in integrator\(\):\n"
+        # Explicit Euler's energy grows in the first step of every run.
+        self.assertRegex(text, r"\n\d+ tests stopped on the same failed assertion, in integrator\(\), in step 1:\n"
                                r"  \S*integrator\.cpp:\d+: assert\(stageActive[^\n]*energyAfter <= energyBefore")
         self.assertIn("explicit Euler's signature", text)
         self.assertEqual(text.count("Assertion `"), 0)
         self.assertNotIn("hint:", text)
         self.assertRegex(text, r"OneStepIsSemiImplicitEuler +0 / \d+ +FAIL\n +\| stopped on the same failed assertion \(above\)")
+
+
+    def test_a_body_no_longer_finite_is_said_once_as_the_student_readme_says(self):
+        engine = pathlib.Path(env_path("GPL_CHECKER")).parent / "gpl-hooks-mutant_static_bodies_force_over_mass"
+        if not engine.is_file():
+            self.skipTest(f"{engine} is not built")
+        results = running.grade_binary(running.Programs(env_path("GPL_CHECKER"), engine, env_path("GPL_LAUNCH")), 1)
+        text = reports.table(results, "NaN")
+        self.assertRegex(text, r"\n\d+ tests stopped early: body 'floor' is no longer finite after step 1 "
+                               r"\(t = 0\.01 s\): check integrator\(\)\n  what it usually means: ")
+        self.assertNotIn("hint:", text)
+        self.assertNotIn("unknown file", text)
+        self.assertNotIn("Expected:", text)
+        # The student README's table quotes the grader's words ("…" stands for what varies).
+        readme = (ROOT / "docs" / "student-README.md").read_text()
+        row = re.search(r"^\| `(stopped early: body '…' is no longer finite)` \| (.*) \|$", readme, re.M)
+        self.assertIsNotNone(row, "the student README has no row for a body no longer finite")
+        self.assertRegex(text, re.escape(row.group(1)).replace("…", "[^']+"))
+        self.assertIn(reports.meaning("isFinite(x)"), text)
+        self.assertIn(row.group(2), reports.meaning("isFinite(x)"))
 
 
 class Declarations(unittest.TestCase):

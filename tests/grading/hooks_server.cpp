@@ -41,6 +41,17 @@ constexpr int kOut = 4;
 // hook from it only within the call the checker was waiting for (the checker names that call).
 
 int traceFd = -1;
+// The engine's step in flight (its number since the scene was loaded, as step() counts), 0 outside
+// one: a crash names it ("grader: in step N"), so the report can say which step a failed assertion ended.
+volatile sig_atomic_t stepInFlight = 0;
+
+/// Names the engine's next step as the one in flight for as long as it lives.
+struct InStep {
+    explicit InStep(const PhysicsEngine& e) { stepInFlight = static_cast<sig_atomic_t>(e.stepCount() + 1); }
+    ~InStep() { stepInFlight = 0; }
+    InStep(const InStep&) = delete;
+    InStep& operator=(const InStep&) = delete;
+};
 char* stackLow = nullptr;   // the main thread's stack: a fault just below it is an overflow
 char* stackHigh = nullptr;
 constexpr int kTracedSignals[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGUSR1, SIGXCPU, SIGXFSZ, SIGSYS};
@@ -76,6 +87,17 @@ void writeTrace(int signal, siginfo_t* info, void*) {
     if (signal == SIGSEGV && info && stackLow) {
         const char* at = static_cast<const char*>(info->si_addr);
         if (at < stackHigh && at >= stackLow - (1 << 20)) writeText("grader: stack overflow\n");
+    }
+    if (stepInFlight > 0 && signal != SIGUSR1) {
+        char line[48] = "grader: in step ";
+        char digits[24];
+        int d = 0;
+        for (long s = stepInFlight; s > 0 && d < 20; s /= 10) digits[d++] = static_cast<char>('0' + s % 10);
+        std::size_t at = std::strlen(line);
+        while (d > 0) line[at++] = digits[--d];
+        line[at++] = '\n';
+        line[at] = '\0';
+        writeText(line);
     }
     void* frames[64];
     const int n = backtrace(frames, 64);
@@ -188,10 +210,13 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             if (in.u8()) held = std::make_unique<PhysicsEngine>();
             PhysicsEngine& e = *held;
             EngineAccess::readWorld(in, e);
-            if (call == Call::SimulationTimestep) {
-                e.simulationTimestep();
-            } else {
-                e.integrator();
+            {
+                const InStep named(e);
+                if (call == Call::SimulationTimestep) {
+                    e.simulationTimestep();
+                } else {
+                    e.integrator();
+                }
             }
             EngineAccess::writeChanges(out, e);
             return;
@@ -208,6 +233,7 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
                 out, n,
                 [&] {
                     EngineAccess::beginStep(e);
+                    const InStep named(e);
                     e.simulationTimestep();
                     EngineAccess::advanceClock(e);
                 },

@@ -38,7 +38,7 @@ def clean(message):
     message = _EXCEPTION.sub(lambda m: m.group(1), message)
     lines = []
     for line in message.splitlines():
-        if line.strip() in ("unknown file: Failure", "Failure"):
+        if line.strip() in ("unknown file: Failure", "unknown file", "Failure"):
             continue
         m = _EXPECTED.match(line.strip())
         if m:
@@ -50,15 +50,17 @@ def clean(message):
 # ---- One cause, one message ----------------------------------------------------------------------
 
 _ASSERT = re.compile(r"(?P<where>[^\s:]+:\d+): (?P<function>[^\n]*?): Assertion `(?P<condition>.*)' failed\.")
-_IN_HOOK = re.compile(r" in (\S+\(\))$")
+_IN_HOOK = re.compile(r" in (\S+\(\))(?: in step \d+)?$")
+_IN_STEP = re.compile(r" in step (\d+)$")
 OPEN_HOOKS = running.OPEN_HOOKS
 
 # What a failed assert usually means, by a pattern of its condition (the first that matches).
 MEANINGS = [
-    (r"energyAfter\s*<=\s*energyBefore", "the total energy grew in a step: explicit Euler's signature "
-                                          "(x += h v with the old velocity)"),
-    (r"isFinite|isfinite|isnan", "a position or velocity is no longer a finite number (a division by a "
-                                 "zero mass, or a step that blew up)"),
+    (r"energyAfter\s*<=\s*energyBefore", "the total energy grew in a step (explicit Euler's signature: x += h v "
+                                          "with the old velocity), or is no longer a number (a static body, of "
+                                          "infinite mass, that moved)"),
+    (r"isFinite|isfinite|isnan", "a position or velocity became NaN or infinite: a division by zero, or an "
+                                 "infinite mass times zero"),
 ]
 GENERIC_MEANING = "a condition the code asserts was false: read it, and where it is checked"
 
@@ -77,7 +79,12 @@ def own_failure(r):
 def cause_of(r):
     """(key, kind) of an engine failure several tests may share: the same failed assert, or the same
     crash in the same hook; None for a test that failed otherwise."""
-    if r["passed"] or r.get("not_run") or not r["output"].startswith("crashed with"):
+    if r["passed"] or r.get("not_run"):
+        return None
+    if r["output"].startswith(running.STOPPED_EARLY):
+        # Which body and step differ from test to test; the hook to check is the cause.
+        return ("finite", r["output"].rsplit("check ", 1)[-1]), "non-finite state"
+    if not r["output"].startswith("crashed with"):
         return None
     first = r["output"].splitlines()[0]
     hook = _IN_HOOK.search(first)
@@ -89,6 +96,12 @@ def cause_of(r):
         return ("assert", m.group("where"), m.group("condition"), function + "()" if function else
                 (hook.group(1) if hook else "")), "failed assertion"
     return ("signal", first), "crash"
+
+
+def _step_of(r):
+    """The step a crashed test's engine was taking, from its message's first line; None if unknown."""
+    m = _IN_STEP.search(r["output"].splitlines()[0])
+    return int(m.group(1)) if m else None
 
 
 def analyse(results):
@@ -105,15 +118,21 @@ def analyse(results):
     for key, rs in shared.items():
         if len(rs) < 2:
             continue
-        kind = "failed assertion" if key[0] == "assert" else "crash"
+        kind = {"assert": "failed assertion", "finite": "non-finite state"}.get(key[0], "crash")
         # The whole message goes with a visible test: others (Gradescope) point at it by name.
         rs = sorted(rs, key=lambda r: bool(r.get("hidden")))
         first = views[rs[0]["name"]]["message"].splitlines()[0]
+        steps = {r["name"]: _step_of(r) for r in rs}
+        same_step = len(set(steps.values())) == 1 and None not in steps.values()
+        at = f", in step {steps[rs[0]['name']]}" if same_step else ""
         if key[0] == "assert":
             _, where, condition, hook = key
-            text = [f"{len(rs)} tests stopped on the same failed assertion" + (f", in {hook}" if hook else "") + ":",
+            text = [f"{len(rs)} tests stopped on the same failed assertion" + (f", in {hook}" if hook else "") + at + ":",
                     f"  {where}: assert({clean(condition)})",
                     f"  what it usually means: {meaning(condition)}"]
+        elif key[0] == "finite":
+            text = [f"{len(rs)} tests {first}",
+                    f"  what it usually means: {meaning('isFinite')}"]
         else:
             text = [f"{len(rs)} tests stopped on the same crash: {first}",
                     *("  " + line for line in views[rs[0]["name"]]["message"].splitlines()[1:5])]
@@ -122,8 +141,10 @@ def analyse(results):
         for r in rs:
             views[r["name"]]["cause"] = cause
             views[r["name"]]["hint"] = False
+            views[r["name"]]["step"] = None if same_step else steps[r["name"]]
             if r is not rs[0]:
-                views[r["name"]]["short"] = f"{first}: stopped on the same {kind} as {rs[0]['name']}"
+                own = views[r["name"]]["message"].splitlines()[0]
+                views[r["name"]]["short"] = f"{own}: stopped on the same {kind} as {rs[0]['name']}"
     # Tests that fail only because their hooks are still open, and those not run until they pass.
     groups, grouped = {}, set()
     by_name = {r["name"]: r for r in results}
@@ -181,7 +202,12 @@ def table(results, title):
         if r["passed"]:
             continue
         if view["cause"]:
-            lines.append(f"{'':<{width}}    | stopped on the same {view['cause']['kind']} (above)")
+            step = f", in step {view['step']}" if view.get("step") else ""
+            own = view["message"] if view["cause"]["kind"] == "non-finite state" else ""
+            if own and own in view["cause"]["text"]:
+                own = ""
+            lines.append(f"{'':<{width}}    | stopped on the same {view['cause']['kind']} (above){step}"
+                         + (f": {own[len(running.STOPPED_EARLY):].strip()}" if own else ""))
             continue
         if view["hint"]:
             lines.append(f"{'':<{width}}    hint: {r['hint']}")

@@ -593,13 +593,16 @@ def _runner_signal(pair, isolated):
 
 # How a message begins when the test did not fail on its own assertions: the engine crashed, broke
 # a limit or did not answer (the reports show no hint for these: the message says what happened).
-ENGINE_FAILURES = ("timed out after", "printed more than", "used more than", "ran more than", "tried to ",
+ENGINE_FAILURES = ("stopped early:", "timed out after", "printed more than", "used more than", "ran more than", "tried to ",
                    "wrote more than", "overflowed its stack", "crashed with", "the engine did not answer",
                    "the engine exited", "the checker ended", "the checker failed", "wrote into the lab's",
                    "ran out of memory", "could not be graded", SANITIZER_MARK)
 
 
 OPEN_HOOKS = "hooks still not implemented:"
+STOPPED_EARLY = "stopped early:"
+# The engine's sentence when a step leaves a body with a NaN or an infinity (engine.cpp, rotation.cpp).
+NONFINITE = re.compile(r"(body '[^'\n]{1,100}'[^\n\"]{0,60}? is no longer finite (?:after|in) step \d+[^\n\"]{0,80})")
 
 
 def verdict(test, pair, limits, folder, isolated=None):
@@ -658,7 +661,10 @@ def verdict(test, pair, limits, folder, isolated=None):
             return False, f"overflowed its stack{where} (an endless recursion?)\n{tail}".strip()
         what = {"SIGABRT": " (abort: a failed assert or an uncaught exception)",
                 "SIGFPE": " (an arithmetic error such as an integer division by zero)"}.get(name, "")
-        return False, f"crashed with {name}{what}{where}\n{tail}".strip()
+        # The step the engine was taking (its own word: it only words a failure already decided).
+        step = re.search(r"^grader: in step (\d{1,12})$", pair.trace, re.M)
+        during = f" in step {int(step.group(1))}" if step else ""
+        return False, f"crashed with {name}{what}{where}{during}\n{tail}".strip()
     if ended:
         # The engine left the call (exited) or answered something that is no answer: the checker says which.
         _, detail = ended[0]
@@ -673,6 +679,11 @@ def verdict(test, pair, limits, folder, isolated=None):
         own = (folder / "checker.txt").read_text(errors="replace").strip().splitlines()[-5:] \
             if (folder / "checker.txt").exists() else []
         return False, "\n".join([f"the checker ended (status {pair.checker_rc}) without a report{where}", *own, tail]).strip()
+    # A body that is no longer finite ends the run wherever the test was: the engine's own sentence,
+    # once, in the words of ./lab run and the student README ("stopped early: body ...").
+    nonfinite = next((m.group(1) for m in map(NONFINITE.search, failures) if m), None)
+    if nonfinite:
+        return False, f"{STOPPED_EARLY} {nonfinite}"
     if any("std::bad_alloc" in m for m in failures):
         failures.insert(0, f"ran out of memory{where}: an allocation failed (std::bad_alloc)")
     # A test of its own engines has no fixture note: the engine's own report of the stubs it ran
