@@ -18,10 +18,12 @@ two pipes; the checker's report decides. Points, hints, Gradescope results.json 
   grade.py failure --json FILE --message TEXT
       writes a results.json with zero points that says why the grading could not run.
   grade.py selfcheck --checker CHECKER --hooks ENGINE (--expect full | --expect zero | --mutant NAME)
-                     [--worksheet N]
-      the grader's own checks: the solutions score full marks, the stubs zero, and each seeded
-      mistake (tests/mutants/*.json) loses points in the test named for it, which fails on its own
-      (graded on that test's worksheet unless --worksheet says otherwise).
+                     [--worksheet N | --from-worksheet N]
+      the grader's own checks: the solutions (and each correct alternative, tests/alternatives/*.json)
+      score full marks, the stubs zero, and each seeded mistake (tests/mutants/*.json) loses points in
+      the test named for it, which fails on its own (graded on that test's worksheet unless
+      --worksheet says otherwise). --from-worksheet N grades worksheet N and every later one: the
+      tests that can call a hook of worksheet N.
 
 Exit status: 0 full marks, 1 points lost, 2 the grading itself could not run (a one-line error).
 
@@ -272,6 +274,12 @@ def cmd_selfcheck(args):
     only = None
     if spec is not None:
         only = with_prerequisites(select(programs.manifest(), args.worksheet), spec["must_fail"])
+    elif args.from_worksheet is not None:
+        tests = programs.manifest()
+        only = {t["name"] for t in tests if t["worksheet"] >= args.from_worksheet}
+        if not only:
+            raise GradeError(f"no graded tests for worksheet {args.from_worksheet} or later; the worksheets with "
+                             "graded tests: " + ", ".join(map(str, sorted({t["worksheet"] for t in tests}))))
     results = grade_binary(programs, args.worksheet, args.defaults, only=only)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
@@ -283,7 +291,7 @@ def cmd_selfcheck(args):
         return 1
     if args.expect == "full":
         ok = total == maximum and not failed
-        print("OK: full marks" if ok else f"WRONG: the reference solutions lose points in {', '.join(failed)}")
+        print("OK: full marks" if ok else f"WRONG: {pathlib.Path(args.hooks).name} loses points in {', '.join(failed)}")
     elif args.expect == "zero":
         ok = total == 0
         passed = [r["name"] for r in results if r["passed"]]
@@ -359,6 +367,8 @@ def main(argv):
     exp = s.add_mutually_exclusive_group(required=True)
     exp.add_argument("--expect", choices=["full", "zero"])
     exp.add_argument("--mutant", metavar="NAME")
+    s.add_argument("--from-worksheet", type=int, metavar="N",
+                   help="with --expect: grade worksheet N and every later one (the tests that can call its hooks)")
 
     b = sub.add_parser("prebuild")
     b.add_argument("--build-dir", required=True)
@@ -376,6 +386,8 @@ def main(argv):
         args.defaults = default_limits(args.timeout, args.memory)
     if getattr(args, "jobs", None) is not None and args.jobs < 1:
         parser.error("--jobs must be at least 1")
+    if getattr(args, "from_worksheet", None) is not None and (args.worksheet is not None or args.mutant):
+        parser.error("--from-worksheet goes with --expect, not with --worksheet or --mutant")
     try:
         return {"grade": cmd_grade, "report": cmd_report, "selfcheck": cmd_selfcheck, "prebuild": cmd_prebuild,
                 "failure": cmd_failure}[args.command](args)

@@ -15,6 +15,10 @@ Commands:
   hooks.py write [--backup DIR]            regenerate assignments/ (changed files are copied to DIR first)
   hooks.py mutants OUTDIR                  write every seeded mistake of tests/mutants/*.json as a
                                            hook directory OUTDIR/NAME and print NAME per line
+  hooks.py alternatives OUTDIR             write every correct alternative of tests/alternatives/*.json
+                                           (its code in place of a file's solution blocks) as a hook
+                                           directory OUTDIR/NAME and print NAME and the worksheet of
+                                           that hook file per line
   hooks.py files                           print the hook file names (cmake/hook_files.txt)
 """
 import argparse
@@ -28,6 +32,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 SOLUTIONS = ROOT / "solutions"
 ASSIGNMENTS = ROOT / "assignments"
 MUTANTS = ROOT / "tests" / "mutants"
+ALTERNATIVES = ROOT / "tests" / "alternatives"
 HOOK_LIST = ROOT / "cmake" / "hook_files.txt"
 
 BEGIN, ELSE, END = "// BEGIN SOLUTION", "// ELSE STUB", "// END SOLUTION"
@@ -106,24 +111,54 @@ def write(backup):
     return 0
 
 
-def load_mutants():
-    mutants = []
-    for spec in sorted(MUTANTS.glob("*.json")):
-        for m in json.loads(spec.read_text()):
-            m["spec"] = spec.name
-            mutants.append(m)
-    names = [m["name"] for m in mutants]
+def _load_specs(folder, kind):
+    """The entries of every folder/*.json, each with "spec" set to its file's name; names unique."""
+    entries = []
+    for spec in sorted(folder.glob("*.json")):
+        try:
+            listed = json.loads(spec.read_text())
+        except json.JSONDecodeError as e:
+            raise HookError(f"{spec.name}: not valid JSON: {e}") from None
+        if not isinstance(listed, list):
+            raise HookError(f"{spec.name}: expects a list of {kind}s")
+        for number, entry in enumerate(listed, 1):
+            if not isinstance(entry, dict) or not isinstance(entry.get("name"), str) or not entry["name"]:
+                raise HookError(f"{spec.name}: {kind} {number} has no name")
+            entries.append({**entry, "spec": spec.name})
+    names = [e["name"] for e in entries]
     dup = {n for n in names if names.count(n) > 1}
     if dup:
-        raise HookError(f"duplicate mutant names: {', '.join(sorted(dup))}")
-    return mutants
+        raise HookError(f"duplicate {kind} names: {', '.join(sorted(dup))}")
+    return entries
+
+
+def load_mutants():
+    return _load_specs(MUTANTS, "mutant")
+
+
+def load_alternatives():
+    """The correct alternatives: each replaces the solution blocks of one hook file with its own code
+    ("code": a string, or for a file with several blocks a list of strings, one per block in order)."""
+    alternatives = _load_specs(ALTERNATIVES, "alternative")
+    files = hook_files()
+    for alt in alternatives:
+        where = f"{alt['spec']}: alternative {alt['name']}"
+        for key in ("why", "file"):
+            if not isinstance(alt.get(key), str) or not alt[key].strip():
+                raise HookError(f"{where}: '{key}' must be a non-empty string")
+        if alt["file"] not in files:
+            raise HookError(f"{where}: '{alt['file']}' is not a hook file (cmake/hook_files.txt)")
+        code = alt.get("code")
+        if isinstance(code, str):
+            code = [code]
+        if not isinstance(code, list) or not code or not all(isinstance(c, str) and c.strip() for c in code):
+            raise HookError(f"{where}: 'code' must be a non-empty string, or a list of them (one per solution block)")
+        alt["blocks"] = code
+    return alternatives
 
 
 def write_mutants(outdir):
-    outdir = pathlib.Path(outdir)
     for m in load_mutants():
-        target = outdir / m["name"]
-        target.mkdir(parents=True, exist_ok=True)
         files = {f: (SOLUTIONS / f).read_text() for f in hook_files()}
         for change in m["changes"]:
             text = files[change["file"]]
@@ -133,31 +168,83 @@ def write_mutants(outdir):
                     f"solutions/{change['file']} (must be exactly once): {change['from']!r}")
             files[change["file"]] = text.replace(change["from"], change["to"])
         changed = {change["file"] for change in m["changes"]}
-        for f, text in files.items():
-            # The files the mistake changes lose their markers; the others stay the reference's text
-            # byte for byte, so that the build reuses the reference's objects for them (Variants.cmake).
-            text = _solution_only(text) if f in changed else text
-            path = target / f
-            if not path.exists() or path.read_text() != text:
-                path.write_text(text)
+        _write_variant(pathlib.Path(outdir) / m["name"], {f: _solution_only(files[f]) for f in changed})
         print(m["name"])
     return 0
 
 
-def _solution_only(text):
-    """A solution file with the markers and the commented stub removed (what the mutant compiles)."""
-    out, state = [], "code"
+def write_alternatives(outdir):
+    alternatives = load_alternatives()
+    for alt in alternatives:  # every entry checked before any is written
+        alt["text"] = with_blocks((SOLUTIONS / alt["file"]).read_text(), alt["blocks"],
+                                  f"alternative {alt['name']} of solutions/{alt['file']}")
+        alt["worksheet"] = hook_worksheet(alt["file"])
+    for alt in alternatives:
+        _write_variant(pathlib.Path(outdir) / alt["name"], {alt["file"]: alt["text"]})
+        print(alt["name"], alt["worksheet"])
+    return 0
+
+
+def hook_worksheet(file):
+    """The worksheet that assigns a hook file, from its first line ("// Worksheet N, assignment ...")."""
+    match = re.match(r"// Worksheet (\d+),", (SOLUTIONS / file).read_text())
+    if not match:
+        raise HookError(f"solutions/{file} does not begin with '// Worksheet N,': no worksheet assigns it")
+    return int(match.group(1))
+
+
+def _write_variant(target, changed):
+    """A hook directory: the files in `changed` (name: text) as given; the others stay the reference's
+    text byte for byte, so that the build reuses the reference's objects for them (Variants.cmake).
+    Files already as they should be are not written again (their objects stay up to date)."""
+    target.mkdir(parents=True, exist_ok=True)
+    for f in hook_files():
+        text = changed[f] if f in changed else (SOLUTIONS / f).read_text()
+        path = target / f
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)
+
+
+def with_blocks(text, blocks, name="<text>"):
+    """A solution file with the code of each solution block (BEGIN SOLUTION to ELSE STUB) replaced by
+    the next of `blocks`, and the markers and the commented stubs removed."""
+    count = sum(line.strip() == BEGIN for line in text.splitlines())
+    if count != len(blocks):
+        raise HookError(f"{name}: the file has {count} solution block(s), the alternative gives {len(blocks)}")
+    out, state, blocks = [], "code", iter(blocks)
     for line in text.splitlines(keepends=True):
         tag = line.strip()
         if tag == BEGIN:
+            code = next(blocks)
+            out.append(code if not code or code.endswith("\n") else code + "\n")
             state = "solution"
         elif tag == ELSE:
             state = "stub"
         elif tag == END:
             state = "code"
-        elif state != "stub":
+        elif state == "code":
             out.append(line)
     return "".join(out)
+
+
+def solution_blocks(text):
+    """The code of each solution block of a solution file (BEGIN SOLUTION to ELSE STUB), in order."""
+    blocks, state = [], "code"
+    for line in text.splitlines(keepends=True):
+        tag = line.strip()
+        if tag == BEGIN:
+            blocks.append("")
+            state = "solution"
+        elif tag in (ELSE, END):
+            state = "code"
+        elif state == "solution":
+            blocks[-1] += line
+    return blocks
+
+
+def _solution_only(text):
+    """A solution file with the markers and the commented stub removed (what the mutant compiles)."""
+    return with_blocks(text, solution_blocks(text))
 
 
 def existing_file(text):
@@ -177,12 +264,13 @@ class OneLineParser(argparse.ArgumentParser):
 
 def main(argv):
     parser = OneLineParser(prog="hooks.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    sub = parser.add_subparsers(dest="command", metavar="stub|check|write|mutants|files", required=True,
+    sub = parser.add_subparsers(dest="command", metavar="stub|check|write|mutants|files|alternatives", required=True,
                                 parser_class=OneLineParser)
     sub.add_parser("stub").add_argument("file", type=existing_file)
     sub.add_parser("check")
     sub.add_parser("write").add_argument("--backup", metavar="DIR", type=pathlib.Path)
     sub.add_parser("mutants").add_argument("outdir")
+    sub.add_parser("alternatives").add_argument("outdir")
     sub.add_parser("files")
     args = parser.parse_args(argv)
     try:
@@ -195,6 +283,8 @@ def main(argv):
             return write(args.backup)
         if args.command == "mutants":
             return write_mutants(args.outdir)
+        if args.command == "alternatives":
+            return write_alternatives(args.outdir)
         print("\n".join(hook_files()))
         return 0
     except (HookError, OSError, json.JSONDecodeError, KeyError) as e:

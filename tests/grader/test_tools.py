@@ -821,6 +821,69 @@ class Hooks(unittest.TestCase):
             for change in m["changes"]:
                 self.assertNotEqual(change["from"], change["to"], m["name"])
 
+    def test_alternatives_replace_one_file_with_code_of_their_own(self):
+        # Compared without comments and spacing: a reworded or reindented copy of the reference is no
+        # alternative.
+        def bare(code):
+            return "".join(line.split("//")[0].replace(" ", "") for line in code.splitlines())
+
+        alternatives = hooks.load_alternatives()
+        self.assertTrue(alternatives)
+        with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()) as printed:
+            hooks.write_alternatives(tmp)
+            for alt in alternatives:
+                self.assertIn(alt["file"], hooks.hook_files(), alt["name"])
+                self.assertTrue(alt["why"].strip(), alt["name"])
+                reference = hooks.solution_blocks((ROOT / "solutions" / alt["file"]).read_text())
+                self.assertEqual(len(alt["blocks"]), len(reference), alt["name"])
+                for mine, theirs in zip(alt["blocks"], reference):
+                    self.assertNotEqual(bare(mine), bare(theirs), f"{alt['name']}: the reference's code")
+                for name in hooks.hook_files():
+                    text = (pathlib.Path(tmp) / alt["name"] / name).read_text()
+                    self.assertEqual(text == (ROOT / "solutions" / name).read_text(), name != alt["file"],
+                                     f"{alt['name']}: {name}")
+                    self.assertNotIn(hooks.BEGIN, text if name == alt["file"] else "", alt["name"])
+        worksheets = {alt["name"]: hooks.hook_worksheet(alt["file"]) for alt in alternatives}
+        self.assertEqual(printed.getvalue().splitlines(), [f"{name} {n}" for name, n in worksheets.items()])
+
+    def test_a_malformed_alternative_is_a_one_line_error(self):
+        good = {"name": "x", "why": "another way", "file": "integrator.cpp", "code": "    return;\n"}
+        for entries, says in [("[", "worksheet9.json: not valid JSON"),
+                              ({"name": "x"}, "expects a list of alternatives"),
+                              ([{**good, "name": ""}], "alternative 1 has no name"),
+                              ([good, good], "duplicate alternative names: x"),
+                              ([{**good, "file": "nowhere.cpp"}], "'nowhere.cpp' is not a hook file"),
+                              ([{k: v for k, v in good.items() if k != "why"}], "'why' must be a non-empty string"),
+                              ([{**good, "code": 3}], "'code' must be a non-empty string"),
+                              ([{**good, "code": ["a", ""]}], "'code' must be a non-empty string"),
+                              ([{**good, "file": "box_box.cpp"}], "has 2 solution block(s), the alternative gives 1"),
+                              ([{**good, "file": "student_scenes.cpp"}], "has 0 solution block(s)")]:
+            with self.subTest(says=says), tempfile.TemporaryDirectory() as tmp:
+                folder = pathlib.Path(tmp) / "alternatives"
+                folder.mkdir()
+                (folder / "worksheet9.json").write_text(entries if isinstance(entries, str) else json.dumps(entries))
+                err = io.StringIO()
+                with mock.patch.object(hooks, "ALTERNATIVES", folder), contextlib.redirect_stderr(err), \
+                        contextlib.redirect_stdout(io.StringIO()):
+                    self.assertEqual(hooks.main(["alternatives", str(pathlib.Path(tmp) / "out")]), 1)
+                self.assertEqual(len(err.getvalue().strip().splitlines()), 1, err.getvalue())
+                self.assertIn(says, err.getvalue())
+                self.assertFalse((pathlib.Path(tmp) / "out").exists(), "nothing written for a malformed set")
+
+    def test_selfcheck_from_a_worksheet_on_says_what_it_cannot_do_in_one_line(self):
+        # What grader.alternative.* runs: the tests of the hook's worksheet and the later ones.
+        for extra, says in [(["--expect", "full", "--worksheet", "5"], "--from-worksheet goes with --expect"),
+                            (["--mutant", "x"], "--from-worksheet goes with --expect"),
+                            (["--expect", "full"], "no graded tests for worksheet 9 or later; the worksheets with "
+                                                   "graded tests: 1, 2")]:
+            with self.subTest(extra=extra):
+                proc = subprocess.run([sys.executable, str(ROOT / "tools" / "grade.py"), "selfcheck", "--checker",
+                                       env_path("GPL_CHECKER"), "--hooks", env_path("GPL_HOOKS_SOLUTIONS"),
+                                       "--from-worksheet", "9", *extra], capture_output=True, text=True)
+                self.assertEqual(proc.returncode, 2, proc.stdout[-500:])
+                self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+                self.assertIn(says, proc.stderr)
+
 
 if __name__ == "__main__":
     unittest.main()
