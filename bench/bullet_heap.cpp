@@ -1,6 +1,9 @@
 // The heap of `./lab bench engine` (spheres or cubes) in Bullet 3 (Debian libbullet-dev), set up as people use it:
 // the default collision configuration and dispatcher, the DBVT broad phase, the sequential-impulse
-// solver with the same iteration count, no sleeping, one fixed step of 1/60 s per call.
+// solver with the same iteration count, no sleeping, one fixed step of 1/60 s per call. Bullet's
+// pair friction is the product of the two bodies' coefficients (btManifoldResult::
+// calculateCombinedFriction) where this engine's is their geometric mean: each Bullet body gets
+// sqrt(kFriction), so that every pair, with the ground or between bodies, has kFriction in both.
 #include <btBulletDynamicsCommon.h>
 
 #include <cmath>
@@ -14,6 +17,8 @@ bool hasBullet() { return true; }
 
 namespace {
 
+const btScalar kBodyFriction = std::sqrt(kFriction);
+
 class BulletHeap final : public HeapSim {
 public:
     BulletHeap(HeapShape shape, std::size_t n)
@@ -22,7 +27,7 @@ public:
           ground_(btRigidBody::btRigidBodyConstructionInfo(0.0, nullptr, &groundShape_)) {
         world_.setGravity(btVector3(0.0, -9.81, 0.0));
         world_.getSolverInfo().m_numIterations = kIterations;
-        ground_.setFriction(kFriction);
+        ground_.setFriction(kBodyFriction);
         ground_.setRestitution(0.0);
         world_.addRigidBody(&ground_);
         btCollisionShape* bodyShape =
@@ -39,7 +44,7 @@ public:
             if (shape == HeapShape::Boxes) pose.setRotation(btQuaternion(turn[i].x(), turn[i].y(), turn[i].z(), turn[i].w()));
             btRigidBody::btRigidBodyConstructionInfo info(kMass, nullptr, bodyShape, inertia);
             info.m_startWorldTransform = pose;
-            info.m_friction = kFriction;
+            info.m_friction = kBodyFriction;
             info.m_restitution = 0.0;
             bodies_.push_back(std::make_unique<btRigidBody>(info));
             bodies_.back()->setActivationState(DISABLE_DEACTIVATION);

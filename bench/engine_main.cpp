@@ -185,8 +185,10 @@ int main(int argc, char** argv) {
                   << (bullet ? "the two engines taking turns of " + std::to_string(gpl::bench::kTurn) + " steps; " : std::string())
                   << "this engine's broad phase and friction stage on " << threads
                   << (threads == 1 ? " thread\n" : " threads\n")
-                  << "friction " << gpl::bench::kFriction << " and restitution 0 in both engines (this engine: "
-                  << "worksheet 7's friction stage)\n\n";
+                  << "friction: the pair coefficient " << gpl::bench::kFriction << " in both engines, this engine's"
+                  << " sqrt(mu_a mu_b) of its bodies' " << gpl::bench::kFriction << " (worksheet 7's friction stage),"
+                  << " Bullet's the product of its bodies' " << fixed(std::sqrt(gpl::bench::kFriction), 3) << " (sqrt "
+                  << gpl::bench::kFriction << "); restitution 0 in both\n\n";
         const std::vector<std::size_t> widths{8, 8, 7, 12, 12, 9, 12, 12, 10, 12};
         const char* header[] = {"N", "engine", "steps", "median ms", "p90 ms", "ours/B", "contacts", "deepest m",
                                 "height m", "KE end J"};
