@@ -215,15 +215,16 @@ void overlapRecovery(PhysicsEngine& e) {
     }
 }
 
-// 150 spheres (r = 0.25 m) in a square box of four static walls, five by five in six layers, each
-// touching its neighbours and the walls: a jammed crowd. Every sphere presses on its neighbours and
-// the walls; nothing can move, and the solver must find that out for every contact at once.
+// 192 spheres (r = 0.25 m) in a square box of four static walls, eight by eight in three layers,
+// each touching its neighbours and the walls, which rise a little above the top layer's centres: a
+// jammed crowd. Every sphere presses on its neighbours and the walls; nothing can move, and the
+// solver must find that out for every contact at once.
 void confined(PhysicsEngine& e) {
-    constexpr double r = 0.25;   // m
-    constexpr int kSide = 5, kLayers = 6;
-    constexpr double inner = kSide * r;   // m, half width inside the walls
-    constexpr double wall = 0.1;          // m, half thickness
-    const double height = 0.5 * (2.0 * r * kLayers + 0.5);  // m, half height of a wall
+    constexpr double r = 0.25;  // m
+    constexpr int kSide = 8, kLayers = 3;
+    constexpr double inner = kSide * r;  // m, half width inside the walls
+    constexpr double wall = 0.1;         // m, half thickness
+    const double height = 0.5 * (2.0 * r * kLayers - r + 0.1);  // m, half height of a wall
     e.add(floorOf(0.5));
     for (int side : {-1, 1}) {
         e.add(block(side < 0 ? "wall-left" : "wall-right", {wall, height, inner + 2.0 * wall}, 1.0)
@@ -273,18 +274,18 @@ void addStackingScenes(SceneRegistry& r) {
     r.add(scene("stack-10-offset", "Ten cubes stacked off centre by turns: they stand, none turning.", stack10Offset,
                 {0, 5, 0}, 24));
     r.add(scene("stack-20", "Twenty cubes stacked exactly: the bottom contact carries 19 cubes; it stands.", stack20,
-                {0, 10, 0}, 40));
-    r.add(scene("stack-20-offset", "Twenty cubes stacked off centre by turns: it stands.", stack20Offset, {0, 10, 0}, 40));
+                {0, 12, 0}, 48));
+    r.add(scene("stack-20-offset", "Twenty cubes stacked off centre by turns: it stands.", stack20Offset, {0, 12, 0}, 48));
     r.add(scene("pyramid-10", "A pyramid of 55 cubes in ten rows: it stands, its side contacts idle.", pyramid10,
                 {0, 5, 0}, 24));
     r.add(scene("sphere-pyramid", "Three spheres, one on two, mu = 0.5 (above tan 15 deg = 0.268): it stands.",
                 spherePyramidRough, {0, 1, 0}, 6));
     r.add(scene("sphere-pyramid-slippery", "The three spheres with mu = 0.2, below tan 15 deg: the lower ones roll apart.",
-                spherePyramidSlippery, {0, 1, 0}, 6));
+                spherePyramidSlippery, {0, 1, 0}, 7, 2.5));
     r.add(scene("sphere-tetrahedron", "Four spheres, one on three, mu = 0.5 (above 0.318): it stands.",
                 sphereTetrahedronRough, {0, 1, 0}, 6));
     r.add(scene("sphere-tetrahedron-slippery", "The four spheres with mu = 0.2, below 0.318: the lower ones roll apart.",
-                sphereTetrahedronSlippery, {0, 1, 0}, 6));
+                sphereTetrahedronSlippery, {0, 1, 0}, 7, 2.5));
     r.add(scene("arch", "Two leaning legs and a keystone held between them by friction alone: it stands.", arch,
                 {0, 1, 0}, 7));
     r.add(scene("card-house", "Seven thin cards leaning on each other in two storeys: it stands.", cardHouse,
@@ -295,8 +296,8 @@ void addStackingScenes(SceneRegistry& r) {
                 frictionRamp, {0, 0.6, 0}, 7));
     r.add(scene("overlap-recovery", "Cubes started 5, 15 and 25 % into each other: they part gently and come to rest.",
                 overlapRecovery, {0, 0.8, 0}, 6));
-    r.add(scene("confined", "150 spheres packed in a box of four walls: nothing can move, and nothing does.", confined,
-                {0, 1.5, 0}, 9));
+    r.add(scene("confined", "192 spheres packed in a box of four walls: nothing can move, and nothing does.", confined,
+                {0, 0.5, 0}, 9));
     r.add(scene("dominoes", "Twelve dominoes, the first flicked over: each knocks over the next.", dominoes, {0, 0.5, 0},
                 8));
 }
