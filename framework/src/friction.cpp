@@ -1,6 +1,5 @@
 // Friction and resting contact in the engine (worksheet 7): sequential impulses with sums per
-// contact point. Each step
-//   0. keeps the contacts of last step's pairs that now touch at depth ~0 (kContactSlop), whole,
+// contact point, then positions that follow the velocities. Each step
 //   1. builds every body's world inverse inertia once (worldInverseInertia(); orientations do not
 //      change during the stage, and the kernels would otherwise rebuild R I^-1 R^T at every point
 //      of every sweep),
@@ -11,20 +10,24 @@
 //      large stage's halves measure and warm start their own points at once),
 //   4. sweeps contactIterations() times over every point (ContactSweeps, contact_sweeps.cpp):
 //      applyNormalImpulse(), then applyFrictionImpulse() against the normal sum just updated; a
-//      point whose last solve changed nothing, and whose bodies nothing has changed since, is
-//      skipped (solving it again would change nothing: the kernels are pure); a large stage in two
-//      Halves at once on the engine's second thread, the same to the bit as on one,
-//   5. moves every body by h times the change of its velocity in the stage, less its parts along the
-//      normals of the body's contacts, and turns it by h times the change of its angular velocity:
-//      the integration stage moved the bodies with the velocities before the impulses, and the
-//      interpenetration stage has already undone the motion along the normals. A block held by
-//      static friction on an incline then does not creep down by g h^2 sin(theta) a step,
-//   6. keeps the sums, sorted by pair, for the next step.
+//      point whose last solve changed neither its sums nor its bodies, and whose bodies nothing has
+//      changed since, is skipped (solving it again would change nothing: the kernels are pure),
+//   5. moves every body by h times the change of its velocity in the stage and turns it by h times
+//      the change of its angular velocity: the integration stage moved the bodies with the
+//      velocities before the impulses, so each body ends the step where its new velocity takes it
+//      (x + h v, the semi-implicit Euler step of the velocities the contacts allow). A body resting
+//      on the floor, whose impulses cancel the step's g h, does not sink; one held by static
+//      friction on an incline does not creep,
+//   6. removes a share of every point's overlap beyond kContactSlop with split impulses
+//      (split_impulses.h): impulses on velocities of their own that move and turn the bodies and
+//      are then forgotten, so position error never feeds energy into the velocities, and the slop
+//      leaves resting contacts alone, so a pyramid is not pushed apart along its slanted normals
+//      (where friction, which acts on velocities, does not hold it),
+//   7. keeps the sums, sorted by pair, for the next step.
 // The number of sweeps is fixed: a resting stack converges a little more every step through the
-// warm start, so no sweep checks whether it is done. (A stop once no sum changes by more than a
-// thousandth of m g h would not help the benchmark heaps: after ten sweeps half or more of their
-// points still change by more.)
+// warm start, so no sweep checks whether it is done.
 #include <algorithm>
+#include <cmath>
 #include <optional>
 
 #include "gpl/collision.h"
@@ -32,6 +35,8 @@
 #include "gpl/friction.h"
 #include "gpl/pair_order.h"
 #include "gpl/rotation.h"
+#include "gpl/split_impulses.h"
+#include "gpl/response.h"
 
 namespace gpl {
 namespace {
@@ -67,68 +72,38 @@ PointImpulse warmSums(const ContactMemory& memory, const ContactMemory::Entry* o
     return s;
 }
 
-// The contact of bodies[i] and bodies[j] with body j moved by `shift` (m) and back; positions are
-// restored exactly.
-std::optional<Contact> collideShifted(std::vector<Body>& bodies, std::size_t i, std::size_t j, const Vec3& shift) {
-    const Vec3 kept = bodies[j].position;
-    bodies[j].position = kept + shift;
-    std::optional<Contact> c = collide(bodies, i, j);
-    bodies[j].position = kept;
-    return c;
-}
-
 }  // namespace
-
-void PhysicsEngine::keepRestingContacts() {
-    // Last step's pairs: is each still in contact, and how deep?
-    std::vector<int>& found = found_;
-    found.assign(contactMemory_.entries.size(), -1);
-    rememberedOf_.resize(contacts_.size());
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        const ContactMemory::Entry* old = remembered(contactMemory_, contacts_[c].a, contacts_[c].b);
-        rememberedOf_[c] = old;
-        if (old != nullptr) {
-            const std::size_t m = static_cast<std::size_t>(old - contactMemory_.entries.data());
-            if (found[m] < 0) found[m] = static_cast<int>(c);
-        }
-    }
-    for (std::size_t m = 0; m < contactMemory_.entries.size(); ++m) {
-        const ContactMemory::Entry& e = contactMemory_.entries[m];
-        if (e.a >= bodies_.size() || e.b >= bodies_.size()) continue;
-        if (found[m] >= 0 && contacts_[found[m]].depth >= kContactSlop) continue;
-        // A contact of a sphere has one point, any contact at most kMaxContactPoints: one that has
-        // them all already is whole, and looking again would find no more.
-        const bool sphere = bodies_[e.a].shape == Shape::Sphere || bodies_[e.b].shape == Shape::Sphere;
-        const int whole = sphere ? 1 : kMaxContactPoints;
-        if (found[m] >= 0 && contacts_[found[m]].pointCount >= whole) continue;
-        // b moved towards a along last step's normal (it points from a to b).
-        std::optional<Contact> near = collideShifted(bodies_, e.a, e.b, -kContactSlop * e.normal);
-        if (!near || near->a != e.a || near->b != e.b) continue;
-        if (found[m] >= 0 && near->pointCount <= contacts_[found[m]].pointCount) continue;
-        near->depth = std::max(0.0, near->depth - kContactSlop);  // as touching: the impulses keep the gap
-        if (found[m] >= 0) {
-            contacts_[found[m]] = *near;
-        } else {
-            contacts_.push_back(*near);
-            rememberedOf_.push_back(remembered(contactMemory_, e.a, e.b));
-        }
-    }
-}
 
 void PhysicsEngine::solveContacts() {
     const bool twoThreads = threads() > 1 && sums_.size() >= ContactSweeps::kSplitFrom;  // as last step
     if (twoThreads) second_.wake();
-    keepRestingContacts();
+    // Last step's entry of each contact's pair, for warm starting.
+    rememberedOf_.resize(contacts_.size());
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        rememberedOf_[c] = remembered(contactMemory_, contacts_[c].a, contacts_[c].b);
+    }
     before_.resize(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) before_[i] = {bodies_[i].velocity, bodies_[i].angularVelocity};
     worldInvInertia_.resize(bodies_.size());
     for (std::size_t i = 0; i < bodies_.size(); ++i) worldInvInertia_[i] = worldInverseInertia(bodies_[i]);
 
+    const double h = timeStep();
     // Sums per point: contact c's points start at first[c].
     std::vector<std::size_t>& first = firstPoint_;
     first.assign(contacts_.size() + 1, 0);
     for (std::size_t c = 0; c < contacts_.size(); ++c) first[c + 1] = first[c] + contacts_[c].pointCount;
     sums_.assign(first.back(), PointImpulse{});
+
+    // Each point's overlap now, along the normal through it (the contact's depth where that line
+    // misses a body).
+    depths_.resize(first.back());
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            const double d = depthAlong(bodies_[con.a], bodies_[con.b], con.points[k], con.normal);
+            depths_[first[c] + k] = std::isnan(d) ? con.depth : d;
+        }
+    }
 
     // Each point's approach and last step's sums, measured and warm started by the sweeps' first pass.
     const ContactSweeps::Start start = [this](std::size_t c, const Body& a, const Body& b, PointImpulse* sums) {
@@ -142,32 +117,37 @@ void PhysicsEngine::solveContacts() {
     sweeps_.run(contacts_, first, worldInvInertia_, bodies_, sums_, contactIterations_, true,
                 threads() > 1 ? &second_ : nullptr, &start);
 
-    // The step's positions and orientations with the velocities after the impulses; along the
-    // contact normals interpenetration has moved the bodies already.
-    const double h = timeStep();
-    normals_.assign(bodies_.size(), {});
-    for (const Contact& con : contacts_) {
-        for (const std::size_t i : {con.a, con.b}) {
-            Normals& basis = normals_[i];
-            if (basis.count == 3 || bodies_[i].isStatic()) continue;  // a static body does not move
-            Vec3 n = con.normal;  // its part not yet in the basis (Gram-Schmidt)
-            for (int k = 0; k < basis.count; ++k) n -= n.dot(basis.axes[k]) * basis.axes[k];
-            const double length = n.norm();
-            if (length > 1e-3) basis.axes[basis.count++] = n / length;
+    // Each point's overlap at the end of the step: its overlap now, less what the change of its
+    // normal velocity in the stage moves it apart in h.
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            const double now = normalVelocityAt(con, bodies_[con.a], bodies_[con.b], con.points[k]);
+            depths_[first[c] + k] -= h * (now - sums_[first[c] + k].approach);
         }
     }
+
+    // The step's positions and orientations follow the velocities after the impulses.
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
         Body& b = bodies_[i];
         if (b.isStatic()) continue;
-        Vec3 move = h * (b.velocity - before_[i].first);  // m
-        for (int k = 0; k < normals_[i].count; ++k) move -= move.dot(normals_[i].axes[k]) * normals_[i].axes[k];
-        b.position += move;
+        b.position += h * (b.velocity - before_[i].first);
         const Vec3 turn = h * (b.angularVelocity - before_[i].second);  // rad, world frame
         if (!turn.isZero(0.0)) {
             const double angle = turn.norm();
             b.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * b.orientation).normalized();
         }
     }
+    // Overlap left beyond the slop: split impulses, in positions only.
+    splitImpulses_.clear();
+    for (std::size_t c = 0; c < contacts_.size(); ++c) {
+        const Contact& con = contacts_[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            splitImpulses_.add(con.a, con.b, con.points[k], con.normal, depths_[first[c] + k], bodies_,
+                               worldInvInertia_[con.a], worldInvInertia_[con.b]);
+        }
+    }
+    splitImpulses_.run(bodies_, worldInvInertia_, kContactSlop, h, interpenetrationIterations());
 
     // Keep the sums for the next step, sorted by pair (a pair that interpenetration found twice
     // keeps its contacts in their order; the first is the one warm starts find). The indices are

@@ -15,6 +15,8 @@
 namespace gpl {
 
 void PhysicsEngine::resolveInterpenetrations() {
+    // In a scene with friction, the friction stage corrects positions after its impulses.
+    if (stageActive(Stage::Friction)) return;
     start_.clear();
     for (const Body& b : bodies_) start_.push_back(b.position);
     const bool ropes = stageActive(Stage::Ropes);

@@ -33,6 +33,7 @@
 #include "gpl/forces.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
+#include "gpl/split_impulses.h"
 #include "gpl/stages.h"
 
 namespace gpl {
@@ -207,11 +208,12 @@ public:
     /// Friction and resting contact (friction.cpp): measures every contact point's approach, warm
     /// starts it with applyWarmStart() from last step's sums (same pair of bodies, nearest point within
     /// kWarmStartDistance), then sweeps contactIterations() times over contacts() with
-    /// applyNormalImpulse() and applyFrictionImpulse() at every point, moves every body by h times
-    /// the change of its velocity off its contacts' normals and turns it by h times the change of its
-    /// angular velocity (the step's positions follow the velocities after the impulses; along the
-    /// normals interpenetration moved them), and keeps the sums for the next step. In a scene that
-    /// requires it, applyCollisionImpulses() leaves the contacts to it.
+    /// applyNormalImpulse() and applyFrictionImpulse() at every point; then every body ends the step
+    /// where its new velocity takes it (moved by h times the change of its velocity, turned by h times
+    /// the change of its angular velocity), and overlap deeper than kContactSlop is reduced by split
+    /// impulses, in positions only (split_impulses.h). It keeps the sums for the next step. In a
+    /// scene that requires it, applyCollisionImpulses() and resolveInterpenetrations() leave the
+    /// contacts to it.
     void solveContacts();
 
     // ---- Hooks not implemented yet ------------------------------------------------------------
@@ -264,19 +266,14 @@ private:
     std::vector<Mat3> worldInvInertia_;  ///< the friction stage's, per body: worldInverseInertia() this step
     std::vector<PointImpulse> sums_;     ///< the friction stage's, per contact point of this step
     std::vector<std::pair<Vec3, Vec3>> before_;  ///< the friction stage's, per body: v and omega when it began
-    /// The friction stage's, per body: an orthonormal basis of its contacts' normals.
-    struct Normals {
-        std::array<Vec3, 3> axes;
-        int count = 0;
-    };
-    std::vector<Normals> normals_;
     ContactSweeps sweeps_;                 ///< the friction stage's sweeps and their buffers
+    SplitImpulses splitImpulses_;          ///< the friction stage's position correction
+    std::vector<double> depths_;           ///< the friction stage's, per contact point: its overlap (m)
     SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
     std::vector<std::size_t> firstPoint_;  ///< the friction stage's, per contact: its first point's index
     std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
     std::vector<std::size_t> placeAt_;     ///< the friction stage's buffer for orderByPair(), per body
-    std::vector<int> found_;               ///< the friction stage's, per remembered pair: its contact now
-    /// The friction stage's, per contact: last step's entry of its pair, or nullptr (keepRestingContacts()).
+    /// The friction stage's, per contact: last step's entry of its pair, or nullptr.
     std::vector<const ContactMemory::Entry*> rememberedOf_;
 
     std::size_t bodyIndex(const std::string& name) const;
@@ -284,8 +281,6 @@ private:
     void recordOpenKernels();
     /// The rope's contact from ropeContact(), with the framework's fields set; none while slack.
     std::optional<Contact> ropeContactOf(const Rope& rope) const;
-    /// The friction stage's first part: last step's contacts that now touch at depth ~0, kept whole (friction.cpp).
-    void keepRestingContacts();
     /// step() before simulationTimestep(): empties the contacts (and the accumulators when gravity is off).
     void beginStep();
     /// step() after simulationTimestep(): advances the clock and checks that every body is finite.

@@ -1,0 +1,53 @@
+// The friction stage's position correction (worksheet 7): split impulses. Overlap that the contacts
+// leave after the velocity sweeps is removed by impulses on velocities of their own (pseudo
+// velocities, zero at the start of every step) that move the bodies' positions and orientations and
+// are then forgotten: the bodies' real velocities, and so their kinetic energy, never see them.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "gpl/body.h"
+#include "gpl/contact.h"
+
+namespace gpl {
+
+/// How far body b must move along n to leave body a, measured on the line through p along n (m):
+/// where a's stretch of that line ends minus where b's begins. Positive while they overlap there,
+/// negative across a gap; NaN when the line misses either body. (n points from a towards b, as a
+/// contact's normal does.)
+double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n);
+
+class SplitImpulses {
+public:
+    /// Share of a point's overlap beyond the slop removed in one step: less than all of it, so
+    /// that a body pushed out of two overlaps at once does not overshoot.
+    static constexpr double kShare = 0.2;
+
+    /// Starts a step: forgets every point.
+    void clear() { points_.clear(); }
+    /// A contact point of bodies a and b at p with normal n (from a towards b), whose overlap at the
+    /// end of the step is expected to be `depth` (m); invIa, invIb are the bodies' world inverse
+    /// inertias.
+    void add(std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth, const std::vector<Body>& bodies,
+             const Mat3& invIa, const Mat3& invIb);
+    /// Removes kShare of every point's overlap beyond `slop` (m) with `sweeps` Gauss-Seidel sweeps
+    /// of summed, non-negative normal impulses on the pseudo velocities, then moves and turns every
+    /// body by h times its pseudo velocities. Does nothing when no point overlaps by more than the slop.
+    void run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, double slop, double h, int sweeps);
+
+private:
+    struct Point {
+        std::size_t a, b;
+        Vec3 ra, rb;   ///< lever arms from the centres of mass (m)
+        Vec3 n;        ///< normal, from a towards b
+        double wn;     ///< inverse effective mass along n (1/kg)
+        double depth;  ///< overlap expected at the end of the step (m)
+        double target = 0.0;  ///< pseudo velocity of separation the point asks for (m/s)
+        double sum = 0.0;     ///< summed pseudo impulse (N s), >= 0
+    };
+    std::vector<Point> points_;
+    std::vector<Vec3> velocity_, angularVelocity_;  ///< per body: the pseudo velocities
+};
+
+}  // namespace gpl

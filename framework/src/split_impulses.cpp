@@ -1,0 +1,114 @@
+// Split impulses: the friction stage's position correction (split_impulses.h).
+#include "gpl/split_impulses.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gpl {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// The stretch [lo, hi] of the line p + s n (s in metres) that lies inside a body; lo > hi when the
+/// line misses it.
+struct Stretch {
+    double lo = -kInfinity;
+    double hi = kInfinity;
+};
+
+Stretch stretchInside(const Body& body, const Vec3& p, const Vec3& n) {
+    Stretch s;
+    switch (body.shape) {
+        case Shape::Sphere: {
+            // |p + s n - c|^2 <= r^2: s = -d.n +- sqrt(r^2 - |d|^2 + (d.n)^2), with d = p - c.
+            const Vec3 d = p - body.position;
+            const double along = d.dot(n);
+            const double square = body.radius * body.radius - d.squaredNorm() + along * along;
+            if (square < 0.0) return {kInfinity, -kInfinity};
+            const double half = std::sqrt(square);
+            return {-along - half, -along + half};
+        }
+        case Shape::Box: {
+            // The slabs |x_i| <= e_i of the box frame, one axis at a time.
+            const Vec3 o = body.orientation.conjugate() * (p - body.position);
+            const Vec3 d = body.orientation.conjugate() * n;
+            for (int i = 0; i < 3; ++i) {
+                const double e = body.halfExtents[i];
+                if (std::abs(d[i]) < 1e-12) {
+                    if (std::abs(o[i]) > e) return {kInfinity, -kInfinity};
+                    continue;
+                }
+                const double t1 = (-e - o[i]) / d[i], t2 = (e - o[i]) / d[i];
+                s.lo = std::max(s.lo, std::min(t1, t2));
+                s.hi = std::min(s.hi, std::max(t1, t2));
+            }
+            return s;
+        }
+        case Shape::Plane: {
+            // The solid side: (p + s n - x) . m <= 0, with m the plane's normal.
+            const Vec3 m = body.orientation * body.normal;
+            const double height = (p - body.position).dot(m), rate = n.dot(m);
+            if (std::abs(rate) < 1e-12) return height <= 0.0 ? s : Stretch{kInfinity, -kInfinity};
+            const double at = -height / rate;
+            return rate > 0.0 ? Stretch{-kInfinity, at} : Stretch{at, kInfinity};
+        }
+    }
+    return s;
+}
+
+}  // namespace
+
+double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n) {
+    const Stretch sa = stretchInside(a, p, n), sb = stretchInside(b, p, n);
+    if (!(sa.lo <= sa.hi) || !(sb.lo <= sb.hi)) return std::numeric_limits<double>::quiet_NaN();
+    return sa.hi - sb.lo;
+}
+
+void SplitImpulses::add(std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth,
+                        const std::vector<Body>& bodies, const Mat3& invIa, const Mat3& invIb) {
+    Point q{a, b, p - bodies[a].position, p - bodies[b].position, n, 0.0, depth};
+    const Vec3 ran = q.ra.cross(n), rbn = q.rb.cross(n);
+    q.wn = bodies[a].invMass + bodies[b].invMass + ran.dot(invIa * ran) + rbn.dot(invIb * rbn);
+    if (q.wn > 0.0) points_.push_back(q);
+}
+
+void SplitImpulses::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, double slop, double h, int sweeps) {
+    bool any = false;
+    for (Point& q : points_) {
+        q.target = q.depth > slop ? kShare * (q.depth - slop) / h : 0.0;  // m/s
+        q.sum = 0.0;
+        any |= q.target > 0.0;
+    }
+    if (!any) return;
+    velocity_.assign(bodies.size(), Vec3::Zero());
+    angularVelocity_.assign(bodies.size(), Vec3::Zero());
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        for (Point& q : points_) {
+            Vec3& va = velocity_[q.a];
+            Vec3& vb = velocity_[q.b];
+            Vec3& wa = angularVelocity_[q.a];
+            Vec3& wb = angularVelocity_[q.b];
+            const double vn = q.n.dot(vb + wb.cross(q.rb) - va - wa.cross(q.ra));  // m/s, > 0 separating
+            const double sum = std::max(0.0, q.sum + (q.target - vn) / q.wn);
+            const Vec3 impulse = (sum - q.sum) * q.n;  // N s, on b; -impulse on a
+            q.sum = sum;
+            va -= bodies[q.a].invMass * impulse;
+            vb += bodies[q.b].invMass * impulse;
+            wa -= invI[q.a] * q.ra.cross(impulse);
+            wb += invI[q.b] * q.rb.cross(impulse);
+        }
+    }
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        Body& body = bodies[i];
+        if (body.isStatic()) continue;
+        body.position += h * velocity_[i];
+        const Vec3 turn = h * angularVelocity_[i];  // rad, world frame
+        if (!turn.isZero(0.0)) {
+            const double angle = turn.norm();
+            body.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * body.orientation).normalized();
+        }
+    }
+}
+
+}  // namespace gpl
