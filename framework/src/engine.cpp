@@ -47,7 +47,7 @@ void PhysicsEngine::remove(std::size_t index) {
     dropAndRenumber(ropes_);
     contacts_.clear();
     nearPairs_.clear();
-    contactMemory_.clear();  // the friction stage's sums name bodies by index
+    friction_.forget();  // the friction stage's sums name bodies by index
 }
 
 void PhysicsEngine::restore(const State& s) {
@@ -57,7 +57,7 @@ void PhysicsEngine::restore(const State& s) {
     time_ = s.time;
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
-    contactMemory_.clear();
+    friction_.forget();
 }
 
 void PhysicsEngine::clear() {
@@ -69,7 +69,7 @@ void PhysicsEngine::clear() {
     nearPairs_.clear();
     container_.reset();
     previousPositions_.clear();
-    contactMemory_.clear();
+    friction_.forget();
     time_ = 0.0;
     steps_ = 0;
 }

@@ -6,12 +6,12 @@
 //   2. measures each point's approach speed (what restitution answers) before anything changes it,
 //   3. warm starts: a point of the same pair of bodies as one of last step's, within
 //      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
-//      tangent plane), applied once with applyWarmStart(); 2 and 3 are the sweeps' first pass (a
-//      large stage's halves measure and warm start their own points at once),
-//   4. sweeps contactIterations() times over every point (ContactSweeps, contact_sweeps.cpp):
-//      applyNormalImpulse(), then applyFrictionImpulse() against the normal sum just updated; a
-//      point whose last solve changed neither its sums nor its bodies, and whose bodies nothing has
-//      changed since, is skipped (solving it again would change nothing: the kernels are pure),
+//      tangent plane), applied once with applyWarmStart(),
+//   4. sweeps contactIterations() times over every point: applyNormalImpulse(), then
+//      applyFrictionImpulse() against the normal sum just updated. A small stage runs the plain
+//      loop of FrictionStage::sweep(); a large one runs in two halves at once on the engine's
+//      second thread, skipping points that nothing has changed since they were last solved
+//      (ContactSweeps, contact_sweeps.cpp), with the same result to the bit,
 //   5. moves every body by h times the change of its velocity in the stage and turns it by h times
 //      the change of its angular velocity: the integration stage moved the bodies with the
 //      velocities before the impulses, so each body ends the step where its new velocity takes it
@@ -75,61 +75,63 @@ PointImpulse warmSums(const ContactMemory& memory, const ContactMemory::Entry* o
 }  // namespace
 
 void PhysicsEngine::solveContacts() {
-    const bool twoThreads = threads() > 1 && sums_.size() >= ContactSweeps::kSplitFrom;  // as last step
-    if (twoThreads) second_.wake();
-    // Last step's entry of each contact's pair, for warm starting.
-    rememberedOf_.resize(contacts_.size());
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        rememberedOf_[c] = remembered(contactMemory_, contacts_[c].a, contacts_[c].b);
+    friction_.step(bodies_, contacts_, timeStep(), contactIterations_, interpenetrationIterations(),
+                   threads() > 1 ? &second_ : nullptr);
+    recordOpenKernels();
+}
+
+void FrictionStage::step(std::vector<Body>& bodies, const std::vector<Contact>& contacts, double h, int sweeps,
+                         int positionSweeps, SecondThread* second) {
+    if (second != nullptr && sums_.size() >= ContactSweeps::kSplitFrom) second->wake();  // a large stage, as last step
+    // 1. Each body's velocities now and its world inverse inertia, once.
+    before_.resize(bodies.size());
+    invI_.resize(bodies.size());
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        before_[i] = {bodies[i].velocity, bodies[i].angularVelocity};
+        invI_[i] = worldInverseInertia(bodies[i]);
     }
-    before_.resize(bodies_.size());
-    for (std::size_t i = 0; i < bodies_.size(); ++i) before_[i] = {bodies_[i].velocity, bodies_[i].angularVelocity};
-    worldInvInertia_.resize(bodies_.size());
-    for (std::size_t i = 0; i < bodies_.size(); ++i) worldInvInertia_[i] = worldInverseInertia(bodies_[i]);
-
-    const double h = timeStep();
-    // Sums per point: contact c's points start at first[c].
-    std::vector<std::size_t>& first = firstPoint_;
-    first.assign(contacts_.size() + 1, 0);
-    for (std::size_t c = 0; c < contacts_.size(); ++c) first[c + 1] = first[c] + contacts_[c].pointCount;
-    sums_.assign(first.back(), PointImpulse{});
-
+    // The points' sums: contact c's points start at first_[c]; last step's entry of each pair.
+    first_.assign(contacts.size() + 1, 0);
+    remembered_.resize(contacts.size());
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        first_[c + 1] = first_[c] + contacts[c].pointCount;
+        remembered_[c] = remembered(memory_, contacts[c].a, contacts[c].b);
+    }
+    sums_.assign(first_.back(), PointImpulse{});
     // Each point's overlap now, along the normal through it (the contact's depth where that line
     // misses a body).
-    depths_.resize(first.back());
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        const Contact& con = contacts_[c];
+    depths_.resize(first_.back());
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
-            const double d = depthAlong(bodies_[con.a], bodies_[con.b], con.points[k], con.normal);
-            depths_[first[c] + k] = std::isnan(d) ? con.depth : d;
+            const double d = depthAlong(bodies[con.a], bodies[con.b], con.points[k], con.normal);
+            depths_[first_[c] + k] = std::isnan(d) ? con.depth : d;
         }
     }
 
-    // Each point's approach and last step's sums, measured and warm started by the sweeps' first pass.
-    const ContactSweeps::Start start = [this](std::size_t c, const Body& a, const Body& b, PointImpulse* sums) {
-        const Contact& con = contacts_[c];
-        const ContactMemory::Entry* old = rememberedOf_[c];
-        for (int k = 0; k < con.pointCount; ++k) {
-            sums[k] = warmSums(contactMemory_, old, con.points[k], con.normal);
-            sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
-        }
-    };
-    sweeps_.run(contacts_, first, worldInvInertia_, bodies_, sums_, contactIterations_, true,
-                threads() > 1 ? &second_ : nullptr, &start);
+    // 2-4. Approaches, warm starts and the sweeps: a small stage in the plain loop below, a large
+    // one in two halves (ContactSweeps, the same result to the bit).
+    if (sums_.size() < ContactSweeps::kSplitFrom) {
+        sweep(bodies, contacts, sweeps);
+    } else {
+        const ContactSweeps::Start begin = [this, &contacts](std::size_t c, const Body& a, const Body& b,
+                                                             PointImpulse* sums) { start(contacts, c, a, b, sums); };
+        sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, second, &begin);
+    }
 
     // Each point's overlap at the end of the step: its overlap now, less what the change of its
     // normal velocity in the stage moves it apart in h.
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        const Contact& con = contacts_[c];
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
-            const double now = normalVelocityAt(con, bodies_[con.a], bodies_[con.b], con.points[k]);
-            depths_[first[c] + k] -= h * (now - sums_[first[c] + k].approach);
+            const double now = normalVelocityAt(con, bodies[con.a], bodies[con.b], con.points[k]);
+            depths_[first_[c] + k] -= h * (now - sums_[first_[c] + k].approach);
         }
     }
 
-    // The step's positions and orientations follow the velocities after the impulses.
-    for (std::size_t i = 0; i < bodies_.size(); ++i) {
-        Body& b = bodies_[i];
+    // 5. The step's positions and orientations follow the velocities after the impulses.
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+        Body& b = bodies[i];
         if (b.isStatic()) continue;
         b.position += h * (b.velocity - before_[i].first);
         const Vec3 turn = h * (b.angularVelocity - before_[i].second);  // rad, world frame
@@ -138,30 +140,70 @@ void PhysicsEngine::solveContacts() {
             b.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * b.orientation).normalized();
         }
     }
-    // Overlap left beyond the slop: split impulses, in positions only.
-    splitImpulses_.clear();
-    for (std::size_t c = 0; c < contacts_.size(); ++c) {
-        const Contact& con = contacts_[c];
+
+    // 6. Overlap left beyond the slop: split impulses, in positions only.
+    split_.clear();
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
-            splitImpulses_.add(con.a, con.b, con.points[k], con.normal, depths_[first[c] + k], bodies_,
-                               worldInvInertia_[con.a], worldInvInertia_[con.b]);
+            split_.add(con.a, con.b, con.points[k], con.normal, depths_[first_[c] + k], bodies, invI_[con.a],
+                       invI_[con.b]);
         }
     }
-    splitImpulses_.run(bodies_, worldInvInertia_, kContactSlop, h, interpenetrationIterations());
+    split_.run(bodies, invI_, kContactSlop, h, positionSweeps);
 
-    // Keep the sums for the next step, sorted by pair (a pair that interpenetration found twice
-    // keeps its contacts in their order; the first is the one warm starts find). The indices are
-    // sorted, not the contacts (176 bytes each).
-    ContactMemory& memory = contactMemory_;
-    std::vector<std::size_t>& order = order_;
-    orderByPair(contacts_.size(), bodies_.size(), [this](std::size_t c) { return contacts_[c].a; },
-                [this](std::size_t c) { return contacts_[c].b; }, order, memory.firstOf, placeAt_);
-    memory.entries.resize(contacts_.size());
-    memory.points.resize(first.back());
-    memory.sums.resize(first.back());
+    // 7.
+    keep(contacts, bodies.size());
+}
+
+void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b,
+                          PointImpulse* sums) const {
+    const Contact& con = contacts[c];
+    for (int k = 0; k < con.pointCount; ++k) {
+        sums[k] = warmSums(memory_, remembered_[c], con.points[k], con.normal);
+        sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
+    }
+}
+
+void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps) {
+    // Every point's approach is measured before any warm start: an impulse at one point changes
+    // the velocities at the others.
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        start(contacts, c, bodies[contacts[c].a], bodies[contacts[c].b], &sums_[first_[c]]);
+    }
+    for (std::size_t c = 0; c < contacts.size(); ++c) {
+        const Contact& con = contacts[c];
+        for (int k = 0; k < con.pointCount; ++k) {
+            const PointImpulse& s = sums_[first_[c] + k];
+            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(con, k, bodies[con.a], bodies[con.b], s);
+        }
+    }
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        for (std::size_t c = 0; c < contacts.size(); ++c) {
+            const Contact& con = contacts[c];
+            Body& a = bodies[con.a];
+            Body& b = bodies[con.b];
+            for (int k = 0; k < con.pointCount; ++k) {
+                PointImpulse& s = sums_[first_[c] + k];
+                applyNormalImpulse(con, k, invI_[con.a], invI_[con.b], a, b, s);
+                applyFrictionImpulse(con, k, invI_[con.a], invI_[con.b], a, b, s);
+            }
+        }
+    }
+}
+
+void FrictionStage::keep(const std::vector<Contact>& contacts, std::size_t bodies) {
+    // Sorted by pair (a pair that detection found twice keeps its contacts in their order; the
+    // first is the one warm starts find). The indices are sorted, not the contacts.
+    ContactMemory& memory = memory_;
+    orderByPair(contacts.size(), bodies, [&contacts](std::size_t c) { return contacts[c].a; },
+                [&contacts](std::size_t c) { return contacts[c].b; }, order_, memory.firstOf, placeAt_);
+    memory.entries.resize(contacts.size());
+    memory.points.resize(first_.back());
+    memory.sums.resize(first_.back());
     std::uint32_t next = 0;  // the next entry's first point
-    for (std::size_t m = 0; m < order.size(); ++m) {
-        const Contact& con = contacts_[order[m]];
+    for (std::size_t m = 0; m < order_.size(); ++m) {
+        const Contact& con = contacts[order_[m]];
         ContactMemory::Entry& e = memory.entries[m];
         e.a = con.a;
         e.b = con.b;
@@ -169,12 +211,11 @@ void PhysicsEngine::solveContacts() {
         e.first = next;
         e.pointCount = static_cast<std::uint32_t>(con.pointCount);
         for (int k = 0; k < con.pointCount; ++k, ++next) {
-            const PointImpulse& s = sums_[first[order[m]] + k];
+            const PointImpulse& s = sums_[first_[order_[m]] + k];
             memory.points[next] = con.points[k];
             memory.sums[next] = {s.normal, s.tangent};
         }
     }
-    recordOpenKernels();
 }
 
 }  // namespace gpl

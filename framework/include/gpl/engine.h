@@ -33,7 +33,6 @@
 #include "gpl/forces.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
-#include "gpl/split_impulses.h"
 #include "gpl/stages.h"
 
 namespace gpl {
@@ -262,19 +261,8 @@ private:
     int interpenetrationIterations_ = 0;  ///< 0: as many as contactIterations_
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
-    ContactMemory contactMemory_;       ///< the friction stage's sums of last step, for warm starting
-    std::vector<Mat3> worldInvInertia_;  ///< the friction stage's, per body: worldInverseInertia() this step
-    std::vector<PointImpulse> sums_;     ///< the friction stage's, per contact point of this step
-    std::vector<std::pair<Vec3, Vec3>> before_;  ///< the friction stage's, per body: v and omega when it began
-    ContactSweeps sweeps_;                 ///< the friction stage's sweeps and their buffers
-    SplitImpulses splitImpulses_;          ///< the friction stage's position correction
-    std::vector<double> depths_;           ///< the friction stage's, per contact point: its overlap (m)
     SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
-    std::vector<std::size_t> firstPoint_;  ///< the friction stage's, per contact: its first point's index
-    std::vector<std::size_t> order_;       ///< the friction stage's, the contacts' indices sorted by pair
-    std::vector<std::size_t> placeAt_;     ///< the friction stage's buffer for orderByPair(), per body
-    /// The friction stage's, per contact: last step's entry of its pair, or nullptr.
-    std::vector<const ContactMemory::Entry*> rememberedOf_;
+    FrictionStage friction_;               ///< the friction stage's memory and buffers (friction.h)
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().

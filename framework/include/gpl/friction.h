@@ -7,7 +7,8 @@
 //   applyFrictionImpulse()  the friction impulse, summed likewise, kept in the Coulomb cone
 //   applyWarmStart()        last step's sums applied again before the first sweep
 // All three act on the bodies through applyImpulseAtPoint() (worksheet 6).
-// Framework (friction.cpp): the friction stage, solveContacts(), and its sweeps, sweepContacts().
+// Framework (friction.cpp): the friction stage, FrictionStage (PhysicsEngine::solveContacts() runs it),
+// with a plain loop of sweeps for a small stage and ContactSweeps (contact_sweeps.cpp) for a large one.
 #pragma once
 
 #include <array>
@@ -20,6 +21,7 @@
 #include "gpl/contact.h"
 #include "gpl/halves.h"
 #include "gpl/second_thread.h"
+#include "gpl/split_impulses.h"
 
 namespace gpl {
 
@@ -162,6 +164,37 @@ struct ContactMemory {
         sums.clear();
         firstOf.clear();
     }
+};
+
+/// The friction stage (friction.cpp): what it keeps from one step to the next (last step's sums,
+/// for warm starting) and the buffers of a step. PhysicsEngine::solveContacts() says what a step does.
+class FrictionStage {
+public:
+    /// One step of the stage over the step's contacts: `sweeps` sweeps of the impulse kernels,
+    /// `positionSweeps` of the position correction; with `second`, a large stage's halves run at once.
+    void step(std::vector<Body>& bodies, const std::vector<Contact>& contacts, double h, int sweeps, int positionSweeps,
+              SecondThread* second);
+    /// Forgets last step's sums (they name bodies by index: after bodies are removed or restored).
+    void forget() { memory_.clear(); }
+
+private:
+    ContactMemory memory_;                   ///< last step's sums, for warm starting
+    std::vector<Mat3> invI_;                 ///< per body: worldInverseInertia() this step
+    std::vector<std::pair<Vec3, Vec3>> before_;  ///< per body: v and omega when the stage began
+    std::vector<std::size_t> first_;         ///< per contact: its first point's index in sums_
+    std::vector<PointImpulse> sums_;         ///< per contact point of this step
+    std::vector<double> depths_;             ///< per contact point: its overlap (m)
+    std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
+    ContactSweeps sweeps_;                   ///< the sweeps of a large stage, in halves
+    SplitImpulses split_;                    ///< the position correction
+    std::vector<std::size_t> order_, placeAt_;  ///< keep()'s buffers: the contacts sorted by pair
+
+    /// The first pass and the sweeps of a small stage: the plain loop (see step()).
+    void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps);
+    /// Last step's sums of contact c's points, and their approach now.
+    void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums) const;
+    /// Keeps this step's sums, sorted by pair, for the next step.
+    void keep(const std::vector<Contact>& contacts, std::size_t bodies);
 };
 
 }  // namespace gpl
