@@ -52,8 +52,11 @@ struct SecondThread::Shared {
     std::mutex mutex;
     std::condition_variable wake;
     const std::function<void()>* work = nullptr;
-    std::atomic<std::uint64_t> posted{0};  ///< hand-overs so far
-    std::atomic<std::uint64_t> done{0};    ///< hand-overs the thread has finished
+    std::atomic<std::uint64_t> posted{0};   ///< hand-overs so far
+    /// The last hand-over that either thread has taken to run: the second thread, or the caller
+    /// once its own half is done and the second thread has not begun (it may have no core now).
+    std::atomic<std::uint64_t> claimed{0};
+    std::atomic<std::uint64_t> done{0};     ///< the last hand-over that has been run to its end
     std::atomic<bool> stop{false};
     std::exception_ptr error;  ///< what the last work threw
 
@@ -79,18 +82,32 @@ struct SecondThread::Shared {
         return thread.joinable();
     }
 
-    /// Hands `next` (nullptr: nothing, only wake) to the thread, once it has done the last.
-    void post(const std::function<void()>* next) {
+    /// Hands `next` (nullptr: nothing, only wake) to the thread, once the last is done; returns its
+    /// number.
+    std::uint64_t post(const std::function<void()>* next) {
         finish();
+        std::uint64_t number = 0;
         {
             const std::lock_guard<std::mutex> lock(mutex);
             work = next;
-            posted.fetch_add(1, std::memory_order_release);
+            number = posted.load(std::memory_order_relaxed) + 1;
+            if (next == nullptr) {  // nothing to run: taken and done as it is posted
+                claimed.store(number, std::memory_order_relaxed);
+                done.store(number, std::memory_order_relaxed);
+            }
+            posted.store(number, std::memory_order_release);
         }
         wake.notify_one();
+        return number;
     }
 
-    /// Returns once the thread has done everything posted.
+    /// Takes hand-over `number` to run, unless the other thread has taken it.
+    bool claim(std::uint64_t number) {
+        std::uint64_t before = number - 1;
+        return claimed.compare_exchange_strong(before, number, std::memory_order_acq_rel);
+    }
+
+    /// Returns once everything posted has been run.
     void finish() {
         const std::uint64_t all = posted.load(std::memory_order_relaxed);
         const auto finished = [this, all] { return done.load(std::memory_order_acquire) == all; };
@@ -114,14 +131,14 @@ struct SecondThread::Shared {
                 seen = posted.load(std::memory_order_relaxed);
             }
             spin = next == nullptr ? kWokenSpin : kSpin;  // woken: the hand-over comes after the preparations
-            if (next != nullptr) {
+            if (next != nullptr && claim(seen)) {
                 try {
                     (*next)();
                 } catch (...) {
                     error = std::current_exception();
                 }
+                done.store(seen, std::memory_order_release);
             }
-            done.store(seen, std::memory_order_release);
         }
     }
 };
@@ -141,15 +158,26 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         theirs();
         return;
     }
-    shared_->post(&theirs);
-    std::exception_ptr mineFailed;
+    const std::uint64_t number = shared_->post(&theirs);
+    std::exception_ptr mineFailed, theirsFailed;
     try {
         mine();
     } catch (...) {
         mineFailed = std::current_exception();
     }
+    // Their half not begun yet (the second thread may be waiting for a core that another program
+    // holds): this thread runs it, and never waits for a core that is not free.
+    if (shared_->claim(number)) {
+        try {
+            theirs();
+        } catch (...) {
+            theirsFailed = std::current_exception();
+        }
+        shared_->done.store(number, std::memory_order_release);
+    }
     shared_->finish();
     if (mineFailed) std::rethrow_exception(mineFailed);
+    if (theirsFailed) std::rethrow_exception(theirsFailed);
     if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));
 }
 

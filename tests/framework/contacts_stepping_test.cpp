@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -396,22 +398,41 @@ TEST(Contacts, SecondThreadRunsBothHalvesAndHandsBackWhatTheirsThrew) {
     std::thread::id theirsOn;
     second.run(false, [&] { ran.push_back(1); }, [&] { ran.push_back(2); });
     EXPECT_EQ(ran, (std::vector<int>{1, 2}));  // not used: here, mine first
-    int mine = 0, theirs = 0;
+    // Their half runs on the second thread, or here when this half is done before that thread has
+    // begun it (it may be waiting for a core): each half exactly once either way. A half of ours
+    // that waits a little for theirs to begin gives the second thread the time to take it.
+    int mine = 0;
+    std::atomic<int> theirs{0};
+    std::atomic<bool> elsewhere{false};
+    const auto waitFor = [](const std::atomic<int>& count, int before) {
+        const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(50);
+        while (count.load() == before && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+    };
+    const std::thread::id here = std::this_thread::get_id();
     for (int k = 0; k < 1000; ++k) {
-        second.run(true, [&] { ++mine; }, [&] { ++theirs, theirsOn = std::this_thread::get_id(); });
+        second.run(true, [&] { ++mine, waitFor(theirs, k); }, [&] {
+            if (std::this_thread::get_id() != here) elsewhere = true, theirsOn = std::this_thread::get_id();
+            ++theirs;
+        });
     }
     EXPECT_EQ(mine, 1000);
-    EXPECT_EQ(theirs, 1000);
-    EXPECT_NE(theirsOn, std::this_thread::get_id());
+    EXPECT_EQ(theirs.load(), 1000);
+    EXPECT_TRUE(elsewhere.load());
+    for (int k = 0; k < 1000; ++k) second.run(true, [&] { ++mine; }, [&] { ++theirs; });  // whoever takes it
+    EXPECT_EQ(mine, 2000);
+    EXPECT_EQ(theirs.load(), 2000);
     EXPECT_THROW(second.run(true, [] {}, [] { throw std::runtime_error("theirs failed"); }), std::runtime_error);
     second.wake();  // as a stage does before its first hand-over
     second.run(true, [&] { ++mine; }, [&] { ++theirs; });  // and it goes on working
-    EXPECT_EQ(theirs, 1001);
+    EXPECT_EQ(theirs.load(), 2001);
     SecondThread copy = second;  // an engine's copy makes its own thread when it needs one
-    std::thread::id copyOn;
-    copy.run(true, [] {}, [&] { copyOn = std::this_thread::get_id(); });
+    std::atomic<int> copied{0};
+    std::thread::id copyOn = here;
+    for (int k = 0; k < 1000 && copyOn == here; ++k) {
+        copy.run(true, [&] { waitFor(copied, k); }, [&] { copyOn = std::this_thread::get_id(), ++copied; });
+    }
     EXPECT_NE(copyOn, theirsOn);
-    EXPECT_NE(copyOn, std::this_thread::get_id());
+    EXPECT_NE(copyOn, here);
 }
 
 TEST(Contacts, ThreadsAreCheckedAndRemembered) {

@@ -8,7 +8,9 @@
 // stage's preparations (up to 20 ms), so that the first hand-over finds it awake: waking a thread
 // that sleeps takes tens of microseconds. Without a second thread (one was not asked for, or the
 // system would not make one) the caller runs both halves itself, its own first: a stage whose
-// halves touch different data gets the same result either way.
+// halves touch different data gets the same result either way. The caller does the same when its
+// own half is done before the second thread has begun the other: on a machine whose other core is
+// busy with another program, a stage then takes the time of one thread, not the wait for a core.
 #pragma once
 
 #include <functional>
