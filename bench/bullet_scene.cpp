@@ -45,7 +45,7 @@ public:
             info.m_restitution = b.restitution;  // a product in both engines
             bodies_.push_back(std::make_unique<btRigidBody>(info));
             btRigidBody& body = *bodies_.back();
-            if (!b.isStatic()) {
+            if (b.invMass > 0.0) {  // a movable body starts with its velocities and is never put to sleep
                 body.setLinearVelocity(bt(b.velocity));
                 body.setAngularVelocity(bt(b.angularVelocity));
                 body.setActivationState(DISABLE_DEACTIVATION);
