@@ -115,7 +115,7 @@ struct EngineAccess {
         e.nearPairs_.clear();  // found anew by detectCollisions() in every step, as step() does
         if (r.u8()) {
             std::vector<Body> bodies = r.bodies();
-            if (!sameNames(bodies, e.bodies_)) e.contactMemory_.clear();
+            if (!sameNames(bodies, e.bodies_)) e.friction_.forget();
             e.bodies_ = std::move(bodies);
             e.previousPositions_ = r.vec3s();
         }
