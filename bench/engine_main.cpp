@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
     app.add_option("--threads", threads, "threads of this engine's broad phase and friction stage (1 or 2; default: 2 on two cores)")
         ->check(gpl::cli::wholeNumber(1, 2));
     app.add_option("--interpenetration", interpenetration,
-                   "this engine's sweeps of interpenetration per step (default: 3; 10: as many as the solver's)")
+                   "this engine's sweeps of position correction (interpenetration) per step (default: 3; 10: as many as the solver's)")
         ->check(gpl::cli::wholeNumber(1, 100));
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     if (sizes.empty()) sizes = shapeName == "box" ? kBoxSizes : kSphereSizes;
@@ -181,7 +181,7 @@ int main(int argc, char** argv) {
         std::cout << (boxes ? "heap of cubes (half side 0.3 m, 1 kg, turned at random" : "heap of spheres (r = 0.5 m, 1 kg")
                   << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
                   << gpl::bench::kIterations << " solver iterations (this engine: " << interpenetration
-                  << " sweeps of interpenetration); times per step over the whole fall and settling, "
+                  << " sweeps of position correction); times per step over the whole fall and settling, "
                   << (bullet ? "the two engines taking turns of " + std::to_string(gpl::bench::kTurn) + " steps; " : std::string())
                   << "this engine's broad phase and friction stage on " << threads
                   << (threads == 1 ? " thread\n" : " threads\n")

@@ -62,23 +62,25 @@ void expectStands(const std::string& scene, double seconds) {
     EXPECT_LT(o.lastSecond, 1e-3) << scene << ": a point still moved this fast in the last second (m/s)";
 }
 
+// The scene's last body (the top sphere) drops by more than its radius within 5 s.
+void expectTopFalls(const std::string& scene) {
+    PhysicsEngine e;
+    load(e, scenes().find(scene));
+    const Body top = e.bodies().back();
+    EXPECT_LT(run(scene, 5.0).lowestTop, top.position.y() - top.radius) << scene;
+}
+
 TEST(RestingContact, ThreeSpheresStandWhereFrictionCanHoldThem) {
     // The lower spheres of a 3-sphere pyramid stay put only for mu >= tan 15 deg = 0.268: the
     // scene's 0.5 stands, its 0.2 spreads and the top sphere drops by more than its radius.
     expectStands("sphere-pyramid", 10.0);
-    PhysicsEngine e;
-    load(e, scenes().find("sphere-pyramid-slippery"));
-    const Body top = e.bodies().back();
-    EXPECT_LT(run("sphere-pyramid-slippery", 5.0).lowestTop, top.position.y() - top.radius);
+    expectTopFalls("sphere-pyramid-slippery");
 }
 
 TEST(RestingContact, FourSpheresStandWhereFrictionCanHoldThem) {
     // The tetrahedron needs mu >= tan(asin(1/sqrt 3) / 2) = 0.318: 0.5 stands, 0.2 falls.
     expectStands("sphere-tetrahedron", 10.0);
-    PhysicsEngine e;
-    load(e, scenes().find("sphere-tetrahedron-slippery"));
-    const Body top = e.bodies().back();
-    EXPECT_LT(run("sphere-tetrahedron-slippery", 5.0).lowestTop, top.position.y() - top.radius);
+    expectTopFalls("sphere-tetrahedron-slippery");
 }
 
 TEST(RestingContact, FiveBoxStackIsNeverKicked) {

@@ -534,12 +534,16 @@ class Feedback(unittest.TestCase):
         self.assertEqual(len(data["tests"]), len(results))
         self.assertEqual(data["tests"][0]["output"], "hooks still not implemented: a() b()")
 
-    def test_explicit_euler_says_its_assertion_once(self):
-        engine = pathlib.Path(env_path("GPL_CHECKER")).parent / "gpl-hooks-mutant_explicit_euler"
+    def graded_mutant(self, name):
+        """The report of worksheet 1 for a seeded mistake's engine (the test is skipped if it is not built)."""
+        engine = pathlib.Path(env_path("GPL_CHECKER")).parent / f"gpl-hooks-mutant_{name}"
         if not engine.is_file():
             self.skipTest(f"{engine} is not built")
         results = running.grade_binary(running.Programs(env_path("GPL_CHECKER"), engine, env_path("GPL_LAUNCH")), 1)
-        text = reports.table(results, "explicit Euler")
+        return reports.table(results, name)
+
+    def test_explicit_euler_says_its_assertion_once(self):
+        text = self.graded_mutant("explicit_euler")
         # Explicit Euler's energy grows in the first step of every run.
         self.assertRegex(text, r"\n\d+ tests stopped on the same failed assertion, in integrator\(\), in step 1:\n"
                                r"  \S*integrator\.cpp:\d+: assert\(stageActive[^\n]*energyAfter <= energyBefore")
@@ -548,13 +552,8 @@ class Feedback(unittest.TestCase):
         self.assertNotIn("hint:", text)
         self.assertRegex(text, r"OneStepIsSemiImplicitEuler +0 / \d+ +FAIL\n +\| stopped on the same failed assertion \(above\)")
 
-
     def test_a_body_no_longer_finite_is_said_once_as_the_student_readme_says(self):
-        engine = pathlib.Path(env_path("GPL_CHECKER")).parent / "gpl-hooks-mutant_static_bodies_force_over_mass"
-        if not engine.is_file():
-            self.skipTest(f"{engine} is not built")
-        results = running.grade_binary(running.Programs(env_path("GPL_CHECKER"), engine, env_path("GPL_LAUNCH")), 1)
-        text = reports.table(results, "NaN")
+        text = self.graded_mutant("static_bodies_force_over_mass")
         self.assertRegex(text, r"\n\d+ tests stopped early: body 'floor' is no longer finite after step 1 "
                                r"\(t = 0\.01 s\): check integrator\(\)\n  what it usually means: ")
         self.assertNotIn("hint:", text)
