@@ -102,10 +102,14 @@ void writeSweep(Output& out, std::ofstream& csv, std::ofstream& orders, const Sw
     }
 }
 
-// Reference lines C h^p for the error-vs-h plots, through the finest run of the first method of order p.
+// Reference lines C h^p for the error-vs-h plots, through the finest run of the first method of order p,
+// and each problem's unit of errors for the plots' axes.
 void writeAnchors(Output& out, const std::vector<Sweep>& sweeps) {
     std::ofstream gp = out.open("anchors.gp");
     for (const Sweep& s : sweeps) {
+        std::string id = s.problem.id;
+        for (char& ch : id) ch = ch == '-' ? '_' : ch;
+        gp << "unit_" << id << " = '" << s.problem.unit << "'\n";
         for (int order : {1, 2, 4}) {
             double c = 0.0;
             for (Integrator m : s.methods) {
@@ -117,8 +121,6 @@ void writeAnchors(Output& out, const std::vector<Sweep>& sweeps) {
                     }
                 }
             }
-            std::string id = s.problem.id;
-            for (char& ch : id) ch = ch == '-' ? '_' : ch;
             gp << "c" << order << "_" << id << " = " << std::setprecision(10) << (c > 0 ? c : 0.0) << '\n';
         }
     }
