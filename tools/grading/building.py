@@ -15,6 +15,7 @@ import shlex
 import shutil
 import stat
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -37,6 +38,9 @@ INCLUDE, PCH, SOURCES, OBJECTS, OUT, LINK = "/gpl/include", "/gpl/pch", "/gpl/sr
 
 
 def cmake_build(build_dir, targets, jobs=None, keep_going=False):
+    """Builds the targets; (whether it built, the build's output). On a terminal one line shows the
+    build's steps as ninja finishes them, "grade: building [#####.....] done/total", erased at the
+    end, as ./lab's builds show theirs; elsewhere nothing is printed."""
     cmd = ["cmake", "--build", str(build_dir)]
     for t in targets:
         cmd += ["--target", t]
@@ -44,8 +48,26 @@ def cmake_build(build_dir, targets, jobs=None, keep_going=False):
         cmd += ["-j", str(jobs)]
     if keep_going:
         cmd += ["--", "-k", "0"]
-    proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    return proc.returncode == 0, proc.stdout
+    if not sys.stdout.isatty():
+        proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        return proc.returncode == 0, proc.stdout
+    lines, shown, label = [], False, "grade: building"
+    with subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                          env={**os.environ, "NINJA_STATUS": "[%f/%t] "}) as proc:
+        for line in proc.stdout:
+            lines.append(line)
+            step = re.match(r"\[(\d+)/(\d+)\] ", line)
+            if step:
+                done, total = int(step[1]), int(step[2])
+                counts = f"{done}/{total}"
+                # A bar up to 40 wide, narrower where the terminal is, left out where it would be under 10.
+                width = min(40, shutil.get_terminal_size().columns - len(label) - len(counts) - 5)
+                bar = f"[{'#' * (width * done // total)}{'.' * (width - width * done // total)}] " if width >= 10 else ""
+                print(f"\r{label} {bar}{counts}\x1b[K", end="", flush=True)
+                shown = True
+    if shown:
+        print("\r\x1b[K", end="", flush=True)
+    return proc.returncode == 0, "".join(lines)
 
 
 def first_errors(log, limit=20):
