@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
     std::string positional;
     app.add_option("scene", positional, "scene name or key (default: falling-sphere)")->check(gpl::cli::sceneName());
     app.add_option("--scene,-s", o.scene, "scene name or key")->check(gpl::cli::sceneName());
-    app.add_option("--frames", o.frames, "render this many frames (1/60 s of simulated time each), then exit")
+    app.add_option("--frames", o.frames, "render this many frames (1/60 s of simulated time each) into --out, then exit")
         ->check(gpl::cli::wholeNumber(0, std::numeric_limits<int>::max()));
     app.add_option("--out", o.out, "folder for frames (with --frames: every frame) and screenshots");
     app.add_option("--record", o.record, "record every frame as PNG into this folder from the start");
@@ -32,6 +32,14 @@ int main(int argc, char** argv) {
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     o.panel = !noPanel;
     if (!positional.empty()) o.scene = positional;
+    // Frames that are rendered and then thrown away are a mistake, not a run: headless, they are
+    // all there is to see.
+    if (o.frames > 0 && o.out.empty() && o.record.empty() && o.script.empty() && !o.benchmark) {
+        std::cerr << "error: --frames: expects --out DIR to write the frames to (or --benchmark to time them), got "
+                     "--frames "
+                  << o.frames << " alone\n";
+        return 2;
+    }
 
     for (const auto& [option, folder] : {std::pair{"--out", o.out}, std::pair{"--record", o.record}}) {
         if (folder.empty()) continue;

@@ -40,6 +40,7 @@ VIEWER_CASES = [
     (["--scene", "nowhere"], "--scene", "got 'nowhere'"),
     (["--frames", "abc"], "--frames", "expects a whole number"),
     (["--frames", "-3"], "--frames", "got '-3'"),
+    (["projectile", "--frames", "2"], "--frames", "expects --out DIR"),  # ./lab viewer --headless without --out
     (["--out", UNWRITABLE], "--out", "expects a folder"),
     (["--record", UNWRITABLE], "--record", "expects a folder"),
     (["--steps", "many"], "--steps", "expects a whole number of 0 or more"),
