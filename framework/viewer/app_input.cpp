@@ -98,8 +98,7 @@ void App::onKey(unsigned char c) {
             break;
         case 'o':
             if (!session_.ghostAvailable()) {
-                message("no reference ghost in this build (it needs the reference engine: solutions/, or a release "
-                        "written with --reference-demo)");
+                message("no reference ghost in this build: this copy of the lab comes without the reference solution");
             } else if (session_.ghostWanted()) {
                 session_.setGhost(false);
                 message("reference ghost off");

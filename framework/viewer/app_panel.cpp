@@ -12,6 +12,8 @@
 namespace gpl::viewer {
 namespace {
 
+constexpr const char* kLongestLabel = "gravity (m/s^2)";  // of the side panel's fields
+
 std::string vec(const Vec3& v, int precision = 3) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "(%.*f, %.*f, %.*f)", precision, v.x(), precision, v.y(), precision, v.z());
@@ -69,6 +71,8 @@ void App::drawPanel() {
     ImGui::SetNextWindowSize(ImVec2(kPanelWidth, static_cast<float>(height_) - 20.0f), ImGuiCond_Always);
     ImGui::SetNextWindowBgAlpha(0.85f);
     ImGui::Begin("Game Physics Lab", &panel_, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize);
+    // Every field leaves room for the longest label beside it, whether the scrollbar shows or not.
+    ImGui::PushItemWidth(-(ImGui::CalcTextSize(kLongestLabel).x + ImGui::GetStyle().ItemInnerSpacing.x));
     PhysicsEngine& e = session_.engine();
 
     if (ImGui::BeginCombo("scene", (session_.scene().key + " " + session_.scene().name).c_str())) {
@@ -111,7 +115,7 @@ void App::drawPanel() {
     if (ImGui::CollapsingHeader("Physics", ImGuiTreeNodeFlags_DefaultOpen)) {
         float g[3] = {static_cast<float>(e.gravity().x()), static_cast<float>(e.gravity().y()),
                       static_cast<float>(e.gravity().z())};
-        if (ImGui::InputFloat3("gravity (m/s^2)", g, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue)) {
+        if (ImGui::InputFloat3(kLongestLabel, g, "%.2f", ImGuiInputTextFlags_EnterReturnsTrue)) {
             try {
                 session_.setGravity(Vec3(g[0], g[1], g[2]));
             } catch (const std::exception& ex) {
@@ -173,7 +177,7 @@ void App::drawPanel() {
             ImGui::Text("angular velocity %s rad/s", vec(b->angularVelocity).c_str());
             ImGui::Text("kinetic %.4g J, potential %.4g J", kineticEnergy(*b), potentialEnergy(*b, e.gravity()));
             if (e.stageActive(Stage::Rotation)) {
-                ImGui::Text("angular momentum %s kg m^2/s", vec(angularMomentum(*b)).c_str());
+                ImGui::TextWrapped("angular momentum %s kg m^2/s", vec(angularMomentum(*b)).c_str());
                 if (ImGui::IsItemHovered()) ImGui::SetTooltip("about the origin: x cross m v + R I R^T omega");
             }
             float restitution = static_cast<float>(b->restitution);
@@ -191,11 +195,14 @@ void App::drawPanel() {
 
     if (ImGui::CollapsingHeader("Energy", ImGuiTreeNodeFlags_DefaultOpen)) {
         const EnergySeries& s = session_.energies();
+        // Each curve fills its box from its lowest to its highest value: the box's height in joules
+        // beside the last value tells a drift of microjoules from a fall of many joules.
         const auto plot = [](const char* label, const std::deque<float>& values) {
             std::vector<float> v(values.begin(), values.end());
             if (v.empty()) return;
-            char overlay[48];
-            std::snprintf(overlay, sizeof overlay, "%.4g J", v.back());
+            const auto [lowest, highest] = std::minmax_element(v.begin(), v.end());
+            char overlay[64];
+            std::snprintf(overlay, sizeof overlay, "%.4g J, span %.2g J", v.back(), *highest - *lowest);
             ImGui::PlotLines(label, v.data(), static_cast<int>(v.size()), 0, overlay, FLT_MAX, FLT_MAX, ImVec2(0, 50));
         };
         plot("kinetic", s.kinetic);
@@ -205,14 +212,16 @@ void App::drawPanel() {
         ImGui::Text("drift since reset: %+.4g J (%+.3g %%)", drift,
                     s.initialTotal != 0.0 ? 100.0 * drift / std::abs(s.initialTotal) : 0.0);
         if (e.stageActive(Stage::Rotation)) {
-            ImGui::Text("angular momentum %s kg m^2/s", vec(e.angularMomentum()).c_str());
+            ImGui::TextWrapped("angular momentum %s kg m^2/s", vec(e.angularMomentum()).c_str());
             if (ImGui::IsItemHovered()) ImGui::SetTooltip("of every body, about the origin");
         }
     }
 
     if (ImGui::CollapsingHeader("Reference ghost", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (!session_.ghostAvailable()) {
-            ImGui::TextDisabled("not in this build (needs solutions/)");
+            ImGui::PushTextWrapPos(0.0f);
+            ImGui::TextDisabled("not in this copy of the lab: it comes without the reference solution");
+            ImGui::PopTextWrapPos();
         } else {
             bool on = session_.ghostWanted();
             if (ImGui::Checkbox("show the reference solution", &on)) {
@@ -229,6 +238,7 @@ void App::drawPanel() {
         if (ImGui::Button("reset camera")) frameScene();
         if (ImGui::Button(recording_.empty() ? "record PNG frames" : "stop recording")) toggleRecording();
     }
+    ImGui::PopItemWidth();
     ImGui::End();
 }
 
