@@ -23,21 +23,33 @@ void colourOf(const Body& b, std::size_t index, std::uint8_t out[4]) {
     out[0] = c[0], out[1] = c[1], out[2] = c[2], out[3] = 255;
 }
 
+// The unit sphere as its eight octants, each a patch of its own (its vertices not shared with the
+// next), marked 0 and 1 by turns like a beach ball: the two shades meet in sharp lines, so that a
+// ball's turning shows however it turns. Each octant spans `slices` steps of longitude and `stacks`
+// of latitude.
 Renderer::Mesh sphereMesh(int slices, int stacks) {
     Renderer::Mesh m;
-    for (int i = 0; i <= stacks; ++i) {
-        for (int j = 0; j <= slices; ++j) {
-            const double a = kPi * (-0.5 + double(i) / stacks), b = 2.0 * kPi * j / slices;
-            const Vec3 v(std::cos(a) * std::cos(b), std::sin(a), -std::cos(a) * std::sin(b));
-            m.vertices.push_back(v);
-            m.normals.push_back(v);
-        }
-    }
-    const auto at = [&](int i, int j) { return static_cast<std::uint32_t>(i * (slices + 1) + j); };
-    for (int i = 0; i < stacks; ++i) {
-        for (int j = 0; j < slices; ++j) {
-            if (i > 0) m.indices.insert(m.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1)});
-            if (i + 1 < stacks) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+    for (int hemisphere = 0; hemisphere < 2; ++hemisphere) {
+        for (int quarter = 0; quarter < 4; ++quarter) {
+            const auto base = static_cast<std::uint32_t>(m.vertices.size());
+            for (int i = 0; i <= stacks; ++i) {
+                for (int j = 0; j <= slices; ++j) {
+                    const double a = 0.5 * kPi * (hemisphere - 1 + double(i) / stacks);  // latitude
+                    const double b = 0.5 * kPi * (quarter + double(j) / slices);         // longitude
+                    const Vec3 v(std::cos(a) * std::cos(b), std::sin(a), -std::cos(a) * std::sin(b));
+                    m.vertices.push_back(v);
+                    m.normals.push_back(v);
+                    m.marks.push_back(static_cast<std::uint8_t>((hemisphere + quarter) % 2));
+                }
+            }
+            const auto at = [&](int i, int j) { return base + static_cast<std::uint32_t>(i * (slices + 1) + j); };
+            for (int i = 0; i < stacks; ++i) {
+                const bool southPole = hemisphere == 0 && i == 0, northPole = hemisphere == 1 && i + 1 == stacks;
+                for (int j = 0; j < slices; ++j) {
+                    if (!southPole) m.indices.insert(m.indices.end(), {at(i, j), at(i, j + 1), at(i + 1, j + 1)});
+                    if (!northPole) m.indices.insert(m.indices.end(), {at(i, j), at(i + 1, j + 1), at(i + 1, j)});
+                }
+            }
         }
     }
     return m;
@@ -75,7 +87,7 @@ Renderer::Mesh discMesh(int segments) {
     return m;
 }
 
-// Height of the ground: the highest upward-facing plane, or 0 when the scene has none.
+// Height of the ground: the highest level plane (isGround), when the scene has one.
 double groundHeight(const std::vector<Body>& bodies, bool& found) {
     found = false;
     double y = 0.0;
@@ -115,16 +127,22 @@ void Renderer::Batch::draw(unsigned mode) const {
 }
 
 Renderer::Renderer()
-    : sphere_{sphereMesh(28, 18), sphereMesh(12, 8), sphereMesh(7, 5)}, cube_(cubeMesh()), disc_(discMesh(10)) {}
+    : sphere_{sphereMesh(7, 9), sphereMesh(3, 4), sphereMesh(2, 3)}, cube_(cubeMesh()), disc_(discMesh(10)) {}
 
 void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], const Camera& camera, int height) const {
     if (b.shape == Shape::Sphere) {
-        // Level of detail from the radius on screen (pixels); a sphere looks the same turned.
+        // Level of detail from the radius on screen (pixels); the marked octants in a paler shade.
         const double depth = std::max(0.1, (b.position - camera.eye()).dot(camera.forward()));
         const double pixels = b.radius / depth * height / (2.0 * std::tan(Camera::kFieldOfViewY * kPi / 360.0));
         const Mesh& m = sphere_[pixels > 50 ? 0 : pixels > 14 ? 1 : 2];
+        std::uint8_t pale[4] = {0, 0, 0, rgba[3]};
+        for (int k = 0; k < 3; ++k) pale[k] = static_cast<std::uint8_t>(rgba[k] + (255 - rgba[k]) * 11 / 20);
+        const Mat3 r = b.orientation.toRotationMatrix();
         const auto base = static_cast<std::uint32_t>(batch.positions.size() / 3);
-        for (const Vec3& v : m.vertices) batch.add(b.position + b.radius * v, v, rgba);
+        for (std::size_t k = 0; k < m.vertices.size(); ++k) {
+            const Vec3 v = r * m.vertices[k];
+            batch.add(b.position + b.radius * v, v, m.marks[k] ? pale : rgba);
+        }
         for (std::uint32_t i : m.indices) batch.indices.push_back(base + i);
     } else if (b.shape == Shape::Box) {
         const Mat3 r = b.orientation.toRotationMatrix();
@@ -215,26 +233,14 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         glDisable(GL_POLYGON_OFFSET_FILL);
     }
 
-    // Without a floor, a grid of 1 m lines (every fifth darker) at height 0 shows where down is.
+    // Blob shadows on the floor under every body: discs for spheres, ellipses for boxes, paler when
+    // higher and gone above 15 m (where they would only cost time). A scene without a floor draws
+    // nothing under its bodies, neither ground nor shadows: nothing stands there.
     glDisable(GL_LIGHTING);
-    lines_.clear();
-    for (int i = -30; i <= 30 && !hasFloor; ++i) {
-        const std::uint8_t s = i % 5 == 0 ? 100 : 135;
-        const std::uint8_t rgba[4] = {s, s, static_cast<std::uint8_t>(s + 8), 255};
-        const double y = ground + 0.003;
-        lines_.add(Vec3(i, y, -30), Vec3::UnitY(), rgba);
-        lines_.add(Vec3(i, y, 30), Vec3::UnitY(), rgba);
-        lines_.add(Vec3(-30, y, i), Vec3::UnitY(), rgba);
-        lines_.add(Vec3(30, y, i), Vec3::UnitY(), rgba);
-    }
-    lines_.draw(GL_LINES);
-
-    // Blob shadows under every body: discs for spheres, ellipses for boxes, paler when higher and
-    // gone above 15 m (where they would only cost time).
     shadows_.clear();
     for (const Body& b : bodies) {
         const double above = b.position.y() - ground;
-        if (b.shape == Shape::Plane || above < 0.0 || above > kShadowHeight) continue;
+        if (!hasFloor || b.shape == Shape::Plane || above < 0.0 || above > kShadowHeight) continue;
         const Vec3 size = b.shape == Shape::Sphere ? Vec3::Constant(b.radius) : b.halfExtents;
         const double grow = 1.0 + 0.02 * above;
         const std::uint8_t rgba[4] = {25, 25, 38,

@@ -1,9 +1,10 @@
 // Draws a session with fixed-function OpenGL (GL 2, as Mesa's llvmpipe runs it well): shaded
-// spheres and boxes with their orientation, the ground as tiles (or a grid without one), other
-// planes as translucent walls around the scene, blob shadows and fog as depth cues, static bodies
-// in grey and movable ones in colour, springs, rods and ropes, the selection, the drag spring, the
-// reference ghost and, on request, the contacts. Bodies are batched into one vertex array per
-// frame: a thousand bodies cost a few draw calls, not thousands.
+// spheres (in two shades by octant, so that their spin shows) and boxes with their orientation, the
+// ground as tiles (a scene without a floor has none), other planes as translucent walls around the
+// scene, blob shadows and fog as depth cues, static bodies in grey and movable ones in colour,
+// springs, rods and ropes, the selection, the drag spring, the reference ghost and, on request, the
+// contacts. Bodies are batched into one vertex array per frame: a thousand bodies cost a few draw
+// calls, not thousands.
 #pragma once
 
 #include <cstdint>
@@ -25,6 +26,7 @@ public:
     /// Indexed vertices (llvmpipe shades each vertex once however many triangles share it).
     struct Mesh {
         std::vector<Vec3> vertices, normals;
+        std::vector<std::uint8_t> marks;     ///< per vertex, 1 where a sphere's marked octants are
         std::vector<std::uint32_t> indices;  ///< triangles
     };
     struct Batch {
@@ -37,10 +39,11 @@ public:
     };
 
 private:
-    /// Appends a sphere or a box to the batch; the sphere's detail follows its size on screen.
+    /// Appends a sphere or a box to the batch, turned as the body is; the sphere's detail follows its
+    /// size on screen.
     void append(Batch& batch, const Body& body, const std::uint8_t rgba[4], const Camera& camera, int height) const;
 
-    Mesh sphere_[3];  ///< unit spheres, fine to coarse
+    Mesh sphere_[3];  ///< unit spheres with marked octants, fine to coarse
     Mesh cube_;       ///< the cube [-1, 1]^3
     Mesh disc_;       ///< unit disc in the x-z plane
     Batch solid_, translucent_, shadows_, lines_, points_;

@@ -123,6 +123,11 @@ class Window(unittest.TestCase):
         # 40 frames are 0.67 s: the ball falls 2.2 m, far more than a few pixels on screen.
         self.assertGreater(last[1] - first[1], 20, f"from {first} to {last}")
         self.assertAlmostEqual(last[0], first[0], delta=3, msg="straight down")
+        # The scene has no floor: below the overlay only the ball is drawn (about 1800 pixels), no
+        # ground or shadow.
+        below = colours(out / "frame_00040.png", (0, 150, 1280, 720))
+        drawn = sum(n for n, p in below if max(abs(a - b) for a, b in zip(p, SKY)) > 12)
+        self.assertLess(drawn, 4000, "a scene without a floor draws nothing under its bodies")
 
     def test_the_untouched_stubs_leave_the_ball_where_it_is(self):
         out = self.tmp / "stub"
