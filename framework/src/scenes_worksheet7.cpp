@@ -13,7 +13,9 @@ constexpr double kSlope = 25.0 * M_PI / 180.0;
 // Two boxes at rest on a slope of 25 degrees (tan 25 = 0.47). With the incline's coefficients 1 and
 // the combination sqrt(mu_a mu_b), the left box's pair has mu_s = 0.7, mu_d = 0.6 (above tan 25: it
 // stays) and the right box's mu_s = 0.3, mu_d = 0.2 (below: it slides down at
-// g (sin 25 - 0.2 cos 25) = 2.37 m/s^2).
+// g (sin 25 - 0.2 cos 25) = 2.37 m/s^2). They start 12 m up the slope: the sliding box is on it for
+// 3.1 s (the worksheet reads its speed at 3 s), then slides onto the floor at the slope's foot,
+// whose friction stops it.
 void incline(PhysicsEngine& e) {
     const Vec3 normal(-std::sin(kSlope), std::cos(kSlope), 0.0);  // the slope rises along +x
     const Vec3 upSlope(std::cos(kSlope), std::sin(kSlope), 0.0);
@@ -21,8 +23,10 @@ void incline(PhysicsEngine& e) {
     e.add(plane("incline", normal).rough(1.0, 1.0));
     const Quat tilt(Eigen::AngleAxisd(kSlope, Vec3::UnitZ()));
     const Vec3 half(0.3, 0.2, 0.3);
-    e.add(box("stays", half, 2.0).at(3.0 * upSlope - 0.6 * across + half.y() * normal).rotated(tilt).rough(0.49, 0.36));
-    e.add(box("slides", half, 2.0).at(3.0 * upSlope + 0.6 * across + half.y() * normal).rotated(tilt).rough(0.09, 0.04));
+    const Vec3 start = 12.0 * upSlope + half.y() * normal;  // m, resting on the slope 12 m up
+    e.add(box("stays", half, 2.0).at(start - 0.6 * across).rotated(tilt).rough(0.49, 0.36));
+    e.add(box("slides", half, 2.0).at(start + 0.6 * across).rotated(tilt).rough(0.09, 0.04));
+    e.add(plane("floor", Vec3::UnitY()).rough(1.0, 1.0));
 }
 
 // A ball and a box thrown along the floor at 4 m/s without spin (mu = 0.3 with the floor). Friction
@@ -50,10 +54,11 @@ void boxStack(PhysicsEngine& e) {
 }  // namespace
 
 void addWorksheet7Scenes(SceneRegistry& r) {
-    // The incline is drawn as a patch of a few metres: the view frames the first 1.5 s, while the
-    // sliding box is on it.
+    // The view frames the slope from the boxes to its foot, and the sliding box until it lies on the
+    // floor.
     r.add({"incline", "", "Two boxes on a slope of 25 degrees: the one with mu_s above tan 25 stays, the other slides.",
-           7, kFrictionStages, kDefaultTimeStep, incline, Integrator::SemiImplicitEuler, Vec3(1.5, 0.6, 0.0), 7.0, 1.5});
+           7, kFrictionStages, kDefaultTimeStep, incline, Integrator::SemiImplicitEuler, Vec3(4.5, 2.3, 0.0), 15.0,
+           3.5});
     r.add({"rolling-ball", "", "A ball and a box thrown along the floor: the ball ends rolling at 5/7 of its speed.", 7,
            kFrictionStages, kDefaultTimeStep, rollingBall, Integrator::SemiImplicitEuler, Vec3(-0.3, 0.5, 0.0), 10.0, 2.5});
     r.add({"box-stack", "", "Five boxes stacked on the floor: they rest still, without drift or jitter.", 7, kFrictionStages,

@@ -368,6 +368,29 @@ TEST(SceneShapes, TheValleysSlopesMeetAtTheBottomAndNothingEnclosesAnOpenFloor) 
     EXPECT_FALSE(enclosedGround(heap.engine().bodies())) << "a floor open on every side";
 }
 
+TEST(SceneShapes, TheInclinesSlopeIsDrawnWhereverTheBoxSlidesUntilItIsOnTheFloor) {
+    Session s{scenes().find("incline")};
+    const auto walls = wallPatches(s.engine().bodies(), s.bounds());
+    ASSERT_EQ(walls.size(), 1u) << "the slope; the floor is the ground";
+    Bounds slope;
+    for (const Vec3& p : walls[0].corners) slope.extend(p);
+    EXPECT_NEAR(slope.min().y(), 0.0, 1e-9) << "from the floor";
+    // Over the scene's view time the sliding box is always over the drawn slope (seen from above)
+    // or on the floor, where it ends.
+    const double half = 0.3;  // m, the box's half length along the slope
+    const int steps = static_cast<int>(std::lround(s.scene().viewSeconds / s.tick()));
+    for (int i = 0; i <= steps; ++i) {
+        const Body& box = s.engine().body("slides");
+        const Vec3& x = box.position;
+        const bool onFloor = x.y() < box.halfExtents.norm();  // a corner or more on the floor
+        EXPECT_TRUE(onFloor || (x.x() >= slope.min().x() - half && x.x() <= slope.max().x() &&
+                                x.z() >= slope.min().z() && x.z() <= slope.max().z()))
+            << "at t = " << s.engine().time() << " s the box is at (" << x.transpose() << ")";
+        if (i < steps) s.stepOnce();
+    }
+    EXPECT_LT(s.engine().body("slides").position.y(), 0.3) << "lying on the floor at the end of the view time";
+}
+
 TEST(SceneShapes, ARopeIsTautWhenItPulledOrIsAtItsFullLength) {
     const std::vector<Body> bodies = {sphere("a", 0.1, 1.0), sphere("b", 0.1, 1.0).at({3.0, 0.0, 0.0})};
     EXPECT_TRUE(ropeTaut(Rope{0, 1, 3.0}, bodies, {}));
