@@ -43,6 +43,15 @@ void App::drawOverlay() {
                                                                       : "off";
     ImGui::Text("%s   stages: %s   gravity %s   %.0f fps", integratorName(e.integratorKind()),
                 e.requiredStages().names().c_str(), gravity, ImGui::GetIO().Framerate);
+    // Without the rotation stage a box keeps its orientation through every contact: a box balanced
+    // on an edge or a corner is then the physics of the scene, not a fault of the student's kernel.
+    const auto& bodies = e.bodies();
+    if (e.stageActive(Stage::CollisionDetection) && !e.stageActive(Stage::Rotation) &&
+        std::any_of(bodies.begin(), bodies.end(),
+                    [](const Body& b) { return b.shape == Shape::Box && !b.isStatic(); })) {
+        ImGui::TextUnformatted(
+            "no rotate stage: a tilted box stays balanced on the edge or corner it lands on (rotation is worksheet 6)");
+    }
     if (!e.missingHooks().empty()) {
         std::string hooks;
         for (const auto& h : e.missingHooks()) hooks += (hooks.empty() ? "" : ", ") + h;
