@@ -15,7 +15,8 @@ int main(int argc, char** argv) {
     std::string positional;
     app.add_option("scene", positional, "scene name or key (default: falling-sphere)")->check(gpl::cli::sceneName());
     app.add_option("--scene,-s", o.scene, "scene name or key")->check(gpl::cli::sceneName());
-    app.add_option("--frames", o.frames, "render this many frames (1/60 s of simulated time each) into --out, then exit")
+    app.add_option("--frames", o.frames,
+                   "render this many frames (1/60 s of simulated time each) into --out, then exit")
         ->check(gpl::cli::wholeNumber(0, std::numeric_limits<int>::max()));
     app.add_option("--out", o.out, "folder for frames (with --frames: every frame) and screenshots");
     app.add_option("--record", o.record, "record every frame as PNG into this folder from the start");
