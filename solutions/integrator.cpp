@@ -23,7 +23,7 @@ void PhysicsEngine::integrator() {
     // springs' only count where this check is off). A NaN fails it too, and step() names any body
     // that is no longer finite.
     const Vec3 g = stageActive(Stage::ConstantAcceleration) ? gravity() : Vec3::Zero();
-    double energyBefore = 0.0, energyAfter = 0.0;
+    [[maybe_unused]] double energyBefore = 0.0, energyAfter = 0.0;  // read by the assertion alone
     for (Body& b : bodies()) {
         if (b.isStatic()) continue;
         energyBefore += b.mass * (0.5 * b.velocity.squaredNorm() - g.dot(b.position));

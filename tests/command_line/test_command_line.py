@@ -72,7 +72,7 @@ LAB_CASES = [
     (["grade", "--worksheet", "one"], "--worksheet", "invalid int value: 'one'"),
     (["grade", "--timeout", "soon"], "--timeout", "invalid float value: 'soon'"),
     (["grade", "--memory", "lots"], "--memory", "invalid float value: 'lots'"),
-    (["test", "--preset", "fastest"], "--preset", "expects release, debug, asan or asan-core, got 'fastest'"),
+    (["test", "--preset", "fastest"], "--preset", "expects release, debug, asan, asan-core or clang, got 'fastest'"),
 ]
 TOOL_CASES = [
     (["tools/release.py"], "release|gradescope|leaks", "required"),

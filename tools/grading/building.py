@@ -83,6 +83,19 @@ def build_trusted(build_dir):
         raise GradeError("the lab's grader does not build: " + first_errors(log, 3))
 
 
+def _program_in_usr(program):
+    """The path of the compiler by which the sandbox, which shows /usr alone, finds it: its links are
+    followed out of the rest of the system (/usr/bin/c++ leads through /etc/alternatives), but not
+    further inside /usr, where a name can matter: /usr/bin/clang++ leads to clang, which links as C."""
+    chain = [os.path.abspath(shutil.which(program) or program)]
+    while os.path.islink(chain[-1]) and len(chain) < 40:
+        chain.append(os.path.normpath(os.path.join(os.path.dirname(chain[-1]), os.readlink(chain[-1]))))
+    first = len(chain) - 1
+    while first > 0 and all(p.startswith("/usr/") for p in chain[first - 1:]):
+        first -= 1
+    return chain[first]
+
+
 class TrustedBuild:
     """How the lab's own build compiles a hook file and links an engine, read from its
     compile_commands.json and build.ninja (the flags of every preset, sanitizers included)."""
@@ -103,9 +116,8 @@ class TrustedBuild:
 
     def _compile_flags(self, argv):
         self.include_dir = ROOT / "framework" / "include"
-        compiler = shutil.which(argv[0]) or argv[0]
-        compiler = os.path.realpath(compiler)  # /usr/bin/c++ is a link through /etc/alternatives
-        flags, pch = [], None
+        compiler = _program_in_usr(argv[0])
+        flags, pch, clang_pch = [], None, False
         i = 1
         while i < len(argv):
             a = argv[i]
@@ -119,6 +131,14 @@ class TrustedBuild:
                 pch = pathlib.Path(argv[i + 1]).parent
                 flags += ["-include", f"{PCH}/cmake_pch.hxx"]
                 i += 2
+                continue
+            if a == "-Xclang" and argv[i + 1] in ("-include-pch", "-include") and \
+                    argv[i + 3].endswith(("cmake_pch.hxx.pch", "cmake_pch.hxx")):
+                # Clang's precompiled header (-Xclang -include-pch -Xclang X.pch -Xclang -include
+                # -Xclang X) finds the files it was made from by their paths in the build, which the
+                # sandbox does not show: with Clang, a hook file is compiled without it.
+                clang_pch = True
+                i += 4
                 continue
             if a.startswith("-I"):
                 path = a[2:] or argv[i + 1]
@@ -136,6 +156,8 @@ class TrustedBuild:
         if pch is not None and not (pch / "cmake_pch.hxx.gch").is_file():
             flags = [f for f in flags if f not in ("-include", f"{PCH}/cmake_pch.hxx", "-Winvalid-pch")]
             pch = None
+        if clang_pch:
+            flags = [f for f in flags if f != "-Winvalid-pch"]
         return compiler, flags + ["-fdiagnostics-color=never"], pch
 
     def _link_command(self):
@@ -170,7 +192,7 @@ class TrustedBuild:
                 continue
             out.append(a)
             i += 1
-        out[0] = os.path.realpath(shutil.which(out[0]) or out[0])
+        out[0] = _program_in_usr(out[0])
         return out, inputs
 
     def built_hook_objects(self):
