@@ -28,23 +28,24 @@ do for [problem in "oscillator kepler pendulum-large"] {
     c1 = value('c1_'.id); c2 = value('c2_'.id); c4 = value('c4_'.id); unit = value('unit_'.id)
     data = dir.'/sweep-'.problem.'.dat'
 
-    # The reference lines C h^p are named at their right end, past the largest step measured.
+    # The reference lines C h^p start left of the smallest step measured and are named there, where
+    # their different slopes have taken them apart.
     stats data using 1 nooutput
     h_min = STATS_min; h_max = STATS_max
-    set xrange [h_min / 1.5 : h_max * 6]
+    set xrange [h_min / 8 : h_max * 1.5]
     set output dir.'/error-'.problem.'.'.ext
     set title 'Global error at the end time against the time step: '.problem.verlets
     set xlabel 'time step h (s)'
     set ylabel 'state error at the end time ('.unit.')'
     unset label
-    h_label = h_max * 1.4
-    if (c1 > 0) { set label 1 'slope 1' at h_label, c1 * h_label left offset 0.5, 0 tc rgb '#555555' }
-    if (c2 > 0) { set label 2 'slope 2' at h_label, c2 * h_label**2 left offset 0.5, 0 tc rgb '#555555' }
-    if (c4 > 0) { set label 4 'slope 4' at h_label, c4 * h_label**4 left offset 0.5, 0 tc rgb '#555555' }
+    h_label = h_min / 1.6
+    if (c1 > 0) { set label 1 'slope 1' at h_label, c1 * h_label right offset -0.5, 0 tc rgb '#555555' }
+    if (c2 > 0) { set label 2 'slope 2' at h_label, c2 * h_label**2 right offset -0.5, 0 tc rgb '#555555' }
+    if (c4 > 0) { set label 4 'slope 4' at h_label, c4 * h_label**4 right offset -0.5, 0 tc rgb '#555555' }
     plot for [k=1:words(measured)] data index k-1 using 1:2 with linespoints lt method(k) title word(names, method(k)), \
-         (c1 > 0 && x < h_label ? c1*x : 1/0) with lines lw 1.5 lc rgb '#555555' dt (6,4) notitle, \
-         (c2 > 0 && x < h_label ? c2*x**2 : 1/0) with lines lw 1.5 lc rgb '#555555' dt (2,3) notitle, \
-         (c4 > 0 && x < h_label ? c4*x**4 : 1/0) with lines lw 1.5 lc rgb '#555555' dt (10,3,2,3) notitle
+         (c1 > 0 && x > h_label ? c1*x : 1/0) with lines lw 1.5 lc rgb '#555555' dt (6,4) notitle, \
+         (c2 > 0 && x > h_label ? c2*x**2 : 1/0) with lines lw 1.5 lc rgb '#555555' dt (2,3) notitle, \
+         (c4 > 0 && x > h_label ? c4*x**4 : 1/0) with lines lw 1.5 lc rgb '#555555' dt (10,3,2,3) notitle
     unset label
     set autoscale x
 
