@@ -38,7 +38,8 @@ struct SolverConfig {
     std::function<void(PhysicsEngine&)> select;
 };
 const std::vector<SolverConfig> kSolvers{
-    {"engine default", [](PhysicsEngine&) {}},
+    {"seq. impulses", [](PhysicsEngine& e) { e.setContactSolver(gpl::ContactSolver::SequentialImpulses); }},
+    {"soft step", [](PhysicsEngine& e) { e.setContactSolver(gpl::ContactSolver::SoftStep); }},
 };
 
 // The scenes run by default: every stacking scene, then worksheet 7's stack and worksheet 6's

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "gpl/engine.h"
+#include "gpl/split_impulses.h"
 
 namespace gpl {
 
@@ -32,13 +33,35 @@ std::optional<Contact> kernelContact(const Body& a, const Body& b) {
 // Kernels take their shapes in this order.
 int shapeOrder(Shape s) { return s == Shape::Sphere ? 0 : s == Shape::Box ? 1 : 2; }
 
+// The body grown by `by` (m) all round; a plane as it is.
+Body grown(const Body& body, double by) {
+    Body g = body;
+    if (g.shape == Shape::Sphere) g.radius += by;
+    if (g.shape == Shape::Box) g.halfExtents += Vec3::Constant(by);
+    return g;
+}
+
+
 }  // namespace
 
-std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j) {
+std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j, double margin) {
     if (shapeOrder(bodies[i].shape) > shapeOrder(bodies[j].shape)) std::swap(i, j);  // sphere, box, plane
     const Body& p = bodies[i];
     const Body& q = bodies[j];
-    std::optional<Contact> c = kernelContact(p, q);
+    // A sphere touches at one point, the same whether grown or not: it is grown only when apart.
+    // A box is grown always: of two boxes tilted by a hair against each other, the grown ones
+    // still meet face to face, with all four corners, where the boxes themselves meet at two.
+    const bool boxes = p.shape == Shape::Box || q.shape == Shape::Box;
+    std::optional<Contact> c;
+    if (margin <= 0.0 || !boxes) c = kernelContact(p, q);
+    if (!c && margin > 0.0) {
+        const double share = q.shape == Shape::Plane ? margin : 0.5 * margin;  // p is never the plane
+        c = kernelContact(grown(p, share), grown(q, margin - share));
+        if (c) {  // the kernels' points lie on the grown surfaces: put them between the bodies' own
+            c->depth -= margin;
+            for (int k = 0; k < c->pointCount; ++k) c->points[k] = betweenSurfaces(p, q, c->points[k], c->normal, margin);
+        }
+    }
     if (c) {
         c->a = i;
         c->b = j;
@@ -58,9 +81,12 @@ void PhysicsEngine::detectCollisions() {
     // that its own moves create.
     const std::vector<BodyPair>& pairs = broadPhase_.findPairs(bodies_, kContactMargin, &second_, kPairsAhead * timeStep_);
     nearPairs_.assign(pairs.begin(), pairs.end());
+    // The friction stage also answers bodies that are within kKeepGap of touching: a stack that
+    // starts with every face exactly on the one below has all its contacts from the first step.
+    const double margin = stageActive(Stage::Friction) ? kKeepGap : 0.0;
     pairInContacts_.assign(nearPairs_.size(), 0);
     for (std::size_t k = 0; k < nearPairs_.size(); ++k) {
-        if (std::optional<Contact> c = collide(bodies_, nearPairs_[k].a, nearPairs_[k].b)) {
+        if (std::optional<Contact> c = collide(bodies_, nearPairs_[k].a, nearPairs_[k].b, margin)) {
             contacts_.push_back(*c);
             pairInContacts_[k] = 1;
         }

@@ -172,6 +172,11 @@ void PhysicsEngine::setInterpenetrationIterations(int iterations) {
     interpenetrationIterations_ = iterations;
 }
 
+void PhysicsEngine::setContactSolver(ContactSolver solver) {
+    if (solver != contactSolver_) friction_.forget();  // the solvers keep impulses of different meaning
+    contactSolver_ = solver;
+}
+
 void PhysicsEngine::setThreads(int threads) {
     if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
     broadPhase_.setThreads(threads);

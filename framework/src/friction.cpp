@@ -74,15 +74,24 @@ PointImpulse warmSums(const ContactMemory& memory, const ContactMemory::Entry* o
 
 }  // namespace
 
+const char* contactSolverName(ContactSolver solver) {
+    switch (solver) {
+        case ContactSolver::SequentialImpulses: return "sequential impulses";
+        case ContactSolver::SoftStep: return "soft step";
+    }
+    return "?";
+}
+
 void PhysicsEngine::solveContacts() {
     friction_.step(bodies_, contacts_, timeStep(), contactIterations_, interpenetrationIterations(),
-                   threads() > 1 ? &second_ : nullptr);
+                   threads() > 1 ? &second_ : nullptr, contactSolver_);
     recordOpenKernels();
 }
 
-void FrictionStage::step(std::vector<Body>& bodies, const std::vector<Contact>& contacts, double h, int sweeps,
-                         int positionSweeps, SecondThread* second) {
+void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contacts, double h, int sweeps,
+                         int positionSweeps, SecondThread* second, ContactSolver solver) {
     if (second != nullptr && sums_.size() >= ContactSweeps::kSplitFrom) second->wake();  // a large stage, as last step
+    keepPoints(bodies, contacts);
     // 1. Each body's velocities now and its world inverse inertia, once.
     before_.resize(bodies.size());
     invI_.resize(bodies.size());
@@ -104,9 +113,18 @@ void FrictionStage::step(std::vector<Body>& bodies, const std::vector<Contact>& 
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
-            const double d = depthAlong(bodies[con.a], bodies[con.b], con.points[k], con.normal);
+            const double d = depthAlong(bodies[con.a], bodies[con.b], con.points[k], con.normal, kKeepGap);
             depths_[first_[c] + k] = std::isnan(d) ? con.depth : d;
         }
+    }
+
+    if (solver == ContactSolver::SoftStep) {
+        for (std::size_t c = 0; c < contacts.size(); ++c) {
+            start(contacts, c, bodies[contacts[c].a], bodies[contacts[c].b], &sums_[first_[c]]);
+        }
+        soft_.run(bodies, invI_, contacts, first_, depths_, sums_, h);
+        keep(contacts, bodies);
+        return;
     }
 
     // 2-4. Approaches, warm starts and the sweeps: a small stage in the plain loop below, a large
@@ -153,7 +171,62 @@ void FrictionStage::step(std::vector<Body>& bodies, const std::vector<Contact>& 
     split_.run(bodies, invI_, kContactSlop, h, positionSweeps);
 
     // 7.
-    keep(contacts, bodies.size());
+    keep(contacts, bodies);
+}
+
+void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts) {
+    if (memory_.entries.empty()) return;
+    for (const ContactMemory::Entry& e : memory_.entries) e.found = false;
+    // Where last step's point k of a pair is now, and whether it still touches along normal n:
+    // the midpoint of the two material points that met there, if they have not slid apart and
+    // the bodies overlap there or are within kKeepGap of it.
+    const auto touching = [&](const ContactMemory::Entry& e, std::uint32_t k, const Vec3& n) -> std::optional<Vec3> {
+        const Body& a = bodies[e.a];
+        const Body& b = bodies[e.b];
+        const Vec3 pa = a.position + a.orientation * memory_.onA[k];
+        const Vec3 pb = b.position + b.orientation * memory_.onB[k];
+        const Vec3 apart = pb - pa;
+        if ((apart - n.dot(apart) * n).squaredNorm() > kKeepSlide * kKeepSlide) return std::nullopt;
+        const Vec3 p = 0.5 * (pa + pb);
+        const double depth = depthAlong(a, b, p, n, kKeepGap);
+        if (!(depth >= -kKeepGap)) return std::nullopt;  // apart, or the line misses a body (NaN)
+        return p;
+    };
+    const std::size_t found = contacts.size();
+    for (std::size_t c = 0; c < found; ++c) {
+        Contact& con = contacts[c];
+        const ContactMemory::Entry* old = remembered(memory_, con.a, con.b);
+        if (old == nullptr) continue;
+        old->found = true;
+        const int reported = con.pointCount;
+        for (std::uint32_t k = old->first; k < old->first + old->pointCount && con.pointCount < kMaxContactPoints; ++k) {
+            bool near = false;  // a point of this step is where it was (a sphere's always is)
+            for (int q = 0; q < reported && !near; ++q) {
+                near = (con.points[q] - memory_.points[k]).squaredNorm() <= kWarmStartDistance * kWarmStartDistance;
+            }
+            if (near) continue;
+            if (const std::optional<Vec3> p = touching(*old, k, con.normal)) con.points[con.pointCount++] = *p;
+        }
+    }
+    // Pairs whose contact the kernels no longer report: their points that still touch.
+    for (const ContactMemory::Entry& e : memory_.entries) {
+        if (e.found || e.a >= bodies.size() || e.b >= bodies.size()) continue;
+        Contact con;
+        con.a = e.a;
+        con.b = e.b;
+        con.normal = e.normal;
+        con.depth = -kKeepGap;
+        con.restitution = e.restitution;
+        con.friction = e.friction;
+        con.staticFriction = e.staticFriction;
+        for (std::uint32_t k = e.first; k < e.first + e.pointCount; ++k) {
+            if (const std::optional<Vec3> p = touching(e, k, e.normal)) {
+                con.points[con.pointCount++] = *p;
+                con.depth = std::max(con.depth, depthAlong(bodies[e.a], bodies[e.b], *p, e.normal, kKeepGap));
+            }
+        }
+        if (con.pointCount > 0) contacts.push_back(con);
+    }
 }
 
 void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b,
@@ -192,15 +265,17 @@ void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>&
     }
 }
 
-void FrictionStage::keep(const std::vector<Contact>& contacts, std::size_t bodies) {
+void FrictionStage::keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies) {
     // Sorted by pair (a pair that detection found twice keeps its contacts in their order; the
     // first is the one warm starts find). The indices are sorted, not the contacts.
     ContactMemory& memory = memory_;
-    orderByPair(contacts.size(), bodies, [&contacts](std::size_t c) { return contacts[c].a; },
+    orderByPair(contacts.size(), bodies.size(), [&contacts](std::size_t c) { return contacts[c].a; },
                 [&contacts](std::size_t c) { return contacts[c].b; }, order_, memory.firstOf, placeAt_);
     memory.entries.resize(contacts.size());
     memory.points.resize(first_.back());
     memory.sums.resize(first_.back());
+    memory.onA.resize(first_.back());
+    memory.onB.resize(first_.back());
     std::uint32_t next = 0;  // the next entry's first point
     for (std::size_t m = 0; m < order_.size(); ++m) {
         const Contact& con = contacts[order_[m]];
@@ -210,10 +285,17 @@ void FrictionStage::keep(const std::vector<Contact>& contacts, std::size_t bodie
         e.normal = con.normal;
         e.first = next;
         e.pointCount = static_cast<std::uint32_t>(con.pointCount);
+        e.restitution = con.restitution;
+        e.friction = con.friction;
+        e.staticFriction = con.staticFriction;
+        const Body& a = bodies[con.a];
+        const Body& b = bodies[con.b];
         for (int k = 0; k < con.pointCount; ++k, ++next) {
             const PointImpulse& s = sums_[first_[order_[m]] + k];
             memory.points[next] = con.points[k];
             memory.sums[next] = {s.normal, s.tangent};
+            memory.onA[next] = a.orientation.conjugate() * (con.points[k] - a.position);
+            memory.onB[next] = b.orientation.conjugate() * (con.points[k] - b.position);
         }
     }
 }

@@ -76,6 +76,7 @@ void load(PhysicsEngine& engine, const Scene& scene) {
     engine.setConstraintIterations(defaults.constraintIterations());
     engine.setContactIterations(defaults.contactIterations());
     engine.setInterpenetrationIterations(0);  // as many as the contact iterations
+    engine.setContactSolver(scene.contactSolver);
     if (scene.build) scene.build(engine);
 }
 

@@ -17,14 +17,15 @@ struct Stretch {
     double hi = kInfinity;
 };
 
-Stretch stretchInside(const Body& body, const Vec3& p, const Vec3& n) {
+Stretch stretchInside(const Body& body, const Vec3& p, const Vec3& n, double grow) {
     Stretch s;
     switch (body.shape) {
         case Shape::Sphere: {
             // |p + s n - c|^2 <= r^2: s = -d.n +- sqrt(r^2 - |d|^2 + (d.n)^2), with d = p - c.
             const Vec3 d = p - body.position;
             const double along = d.dot(n);
-            const double square = body.radius * body.radius - d.squaredNorm() + along * along;
+            const double r = body.radius + grow;
+            const double square = r * r - d.squaredNorm() + along * along;
             if (square < 0.0) return {kInfinity, -kInfinity};
             const double half = std::sqrt(square);
             return {-along - half, -along + half};
@@ -34,7 +35,7 @@ Stretch stretchInside(const Body& body, const Vec3& p, const Vec3& n) {
             const Vec3 o = body.orientation.conjugate() * (p - body.position);
             const Vec3 d = body.orientation.conjugate() * n;
             for (int i = 0; i < 3; ++i) {
-                const double e = body.halfExtents[i];
+                const double e = body.halfExtents[i] + grow;
                 if (std::abs(d[i]) < 1e-12) {
                     if (std::abs(o[i]) > e) return {kInfinity, -kInfinity};
                     continue;
@@ -59,10 +60,25 @@ Stretch stretchInside(const Body& body, const Vec3& p, const Vec3& n) {
 
 }  // namespace
 
-double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n) {
-    const Stretch sa = stretchInside(a, p, n), sb = stretchInside(b, p, n);
+// The share of a margin that a grows by; b grows by the rest (as collide() grows them).
+double shareOf(const Body& a, const Body& b, double margin) {
+    return b.shape == Shape::Plane ? margin : a.shape == Shape::Plane ? 0.0 : 0.5 * margin;
+}
+
+Vec3 betweenSurfaces(const Body& a, const Body& b, const Vec3& p, const Vec3& n, double margin) {
+    const double share = shareOf(a, b, margin);
+    const Stretch sa = stretchInside(a, p, n, share), sb = stretchInside(b, p, n, margin - share);
+    if (!(sa.lo <= sa.hi) || !(sb.lo <= sb.hi)) return p;
+    // Where a's surface ends and b's begins, without the growth: a's stretch ends share further on,
+    // b's begins margin - share earlier.
+    return p + 0.5 * ((sa.hi - share) + (sb.lo + (margin - share))) * n;
+}
+
+double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n, double margin) {
+    const double share = shareOf(a, b, margin);
+    const Stretch sa = stretchInside(a, p, n, share), sb = stretchInside(b, p, n, margin - share);
     if (!(sa.lo <= sa.hi) || !(sb.lo <= sb.hi)) return std::numeric_limits<double>::quiet_NaN();
-    return sa.hi - sb.lo;
+    return sa.hi - sb.lo - margin;
 }
 
 void SplitImpulses::add(std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth,

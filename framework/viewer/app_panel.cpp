@@ -137,6 +137,15 @@ void App::drawPanel() {
             }
             ImGui::EndCombo();
         }
+        if (e.requiredStages().contains(Stage::Friction) &&
+            ImGui::BeginCombo("contact solver", contactSolverName(e.contactSolver()))) {
+            for (ContactSolver solver : {ContactSolver::SequentialImpulses, ContactSolver::SoftStep}) {
+                if (ImGui::Selectable(contactSolverName(solver), solver == e.contactSolver())) {
+                    session_.setContactSolver(solver);
+                }
+            }
+            ImGui::EndCombo();
+        }
         // The stages the scene requires, in the order a step runs them, each one can be switched off;
         // the others in one line.
         ImGui::Text("stages of a step (required by the scene):");

@@ -99,6 +99,11 @@ void Session::setIntegrator(Integrator kind) {
     settingsChanged();
 }
 
+void Session::setContactSolver(ContactSolver solver) {
+    engine_.setContactSolver(solver);
+    settingsChanged();
+}
+
 void Session::setStageEnabled(Stage stage, bool on) {
     engine_.setStageEnabled(stage, on);
     settingsChanged();

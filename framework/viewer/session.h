@@ -71,6 +71,8 @@ public:
 
     // ---- Interaction ---------------------------------------------------------------------------
     void setIntegrator(Integrator kind);
+    /// The friction stage's contact solver (friction.h); it forgets last step's impulses.
+    void setContactSolver(ContactSolver solver);
     /// Switches a stage the scene requires on or off (the panel's stage list).
     void setStageEnabled(Stage stage, bool on);
     /// Sweeps over the contacts per step, clamped to 1 .. kMaxContactIterations.

@@ -37,8 +37,10 @@ std::optional<Contact> boxBox(const Body& a, const Body& b);
 /// framework's fields set (a, b, restitution). The shapes come in the order sphere, box, plane: a
 /// sphere first against a box or a plane, a box first against a plane, so the normal points from
 /// the sphere into the box or plane and from the box into the plane. Two planes and two static
-/// bodies have no contact.
-std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j);
+/// bodies have no contact. With a margin (m, > 0), bodies that come within it of touching have a
+/// contact too: the kernel sees them grown by the margin between them (half each, all of it for a
+/// plane's partner), and the contact's depth is the overlap less the margin, negative across a gap.
+std::optional<Contact> collide(const std::vector<Body>& bodies, std::size_t i, std::size_t j, double margin = 0.0);
 
 /// Speed (m/s) at which the bodies of the contact approach each other along its normal:
 /// (v_b - v_a) . n; negative while they approach, positive while they separate.

@@ -129,6 +129,10 @@ public:
     int threads() const { return broadPhase_.threads(); }
     void setThreads(int threads);
 
+    /// The friction stage's contact solver (friction.h); changing it forgets last step's impulses.
+    ContactSolver contactSolver() const { return contactSolver_; }
+    void setContactSolver(ContactSolver solver);
+
     // ---- Settings (per engine, never global) ------------------------------------------------------
     const Vec3& gravity() const { return gravity_; }
     void setGravity(const Vec3& g);  ///< throws std::invalid_argument when not finite
@@ -263,6 +267,7 @@ private:
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
     SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
     FrictionStage friction_;               ///< the friction stage's memory and buffers (friction.h)
+    ContactSolver contactSolver_ = ContactSolver::SequentialImpulses;
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().

@@ -21,6 +21,7 @@
 #include "gpl/contact.h"
 #include "gpl/halves.h"
 #include "gpl/second_thread.h"
+#include "gpl/soft_step.h"
 #include "gpl/split_impulses.h"
 
 namespace gpl {
@@ -34,11 +35,33 @@ constexpr double kRestingSpeed = 0.5;
 /// bodies) for last step's impulses to warm start it.
 constexpr double kWarmStartDistance = 0.05;
 
+/// Gap (m) up to which a contact point of last step stays in its pair's contact when the collision
+/// kernels no longer report it: a box tilted by a hair lifts a corner off the box below, and the
+/// clipped face then loses that corner; kept, the corner goes on carrying its share of the weight
+/// with the sums it had, and the stack does not rock from one set of points to another. A body
+/// held by a kept point rests at most this far above what holds it.
+constexpr double kKeepGap = 0.0005;
+
+/// Greatest slide (m) of the two bodies' material points that met at a kept point: beyond it the
+/// bodies have slid apart there, and the kernels' points of this step say where they touch.
+constexpr double kKeepSlide = 0.005;
+
 /// Overlap (m) that the friction stage leaves between resting bodies: its position correction
 /// removes only what lies deeper. Correcting every last micrometre in every step would push the
 /// spheres of a pyramid apart along their slanted normals, where friction, which acts on
 /// velocities, does not hold them.
 constexpr double kContactSlop = 0.0005;
+
+/// The friction stage's contact solvers, each in a file of its own (a scene chooses one).
+enum class ContactSolver {
+    /// Sequential impulses: the sweeps of the worksheet's kernels over the step, then positions that
+    /// follow the velocities and split impulses for what still overlaps (friction.cpp).
+    SequentialImpulses,
+    /// Soft step: substeps with soft contacts and a relaxing solve each (soft_step.cpp).
+    SoftStep,
+};
+/// The solver's name as the viewer and the benchmark show it.
+const char* contactSolverName(ContactSolver solver);
 
 /// What the sweeps have summed up at one contact point.
 struct PointImpulse {
@@ -147,6 +170,8 @@ struct ContactMemory {
         Vec3 normal = Vec3::UnitY();
         std::uint32_t first = 0;       ///< its points' index in points and sums
         std::uint32_t pointCount = 0;  ///< 1..kMaxContactPoints
+        double restitution = 0.0, friction = 0.0, staticFriction = 0.0;  ///< the pair's coefficients
+        mutable bool found = false;  ///< a contact of this step is of this pair
     };
     /// What a point keeps of its sums: the normal and friction impulse (its approach is this step's).
     struct Sums {
@@ -156,12 +181,17 @@ struct ContactMemory {
     std::vector<Entry> entries;  ///< sorted by (a, b)
     std::vector<Vec3> points;    ///< the entries' points (m, world frame), entry by entry
     std::vector<Sums> sums;      ///< and their sums
+    /// Per point, the material points of a and of b that were there (m, each body's own frame): where
+    /// the point is when the bodies have moved on, and how far they have slid apart there.
+    std::vector<Vec3> onA, onB;
     /// The entries of pairs whose first body is a: [firstOf[a], firstOf[a + 1]).
     std::vector<std::size_t> firstOf;
     void clear() {
         entries.clear();
         points.clear();
         sums.clear();
+        onA.clear();
+        onB.clear();
         firstOf.clear();
     }
 };
@@ -170,10 +200,11 @@ struct ContactMemory {
 /// for warm starting) and the buffers of a step. PhysicsEngine::solveContacts() says what a step does.
 class FrictionStage {
 public:
-    /// One step of the stage over the step's contacts: `sweeps` sweeps of the impulse kernels,
-    /// `positionSweeps` of the position correction; with `second`, a large stage's halves run at once.
-    void step(std::vector<Body>& bodies, const std::vector<Contact>& contacts, double h, int sweeps, int positionSweeps,
-              SecondThread* second);
+    /// One step of the stage over the step's contacts: first the points that last step's contacts
+    /// keep (keepPoints()), then `sweeps` sweeps of the impulse kernels, `positionSweeps` of the
+    /// position correction; with `second`, a large stage's halves run at once.
+    void step(std::vector<Body>& bodies, std::vector<Contact>& contacts, double h, int sweeps, int positionSweeps,
+              SecondThread* second, ContactSolver solver = ContactSolver::SequentialImpulses);
     /// Forgets last step's sums (they name bodies by index: after bodies are removed or restored).
     void forget() { memory_.clear(); }
 
@@ -187,14 +218,20 @@ private:
     std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
     ContactSweeps sweeps_;                   ///< the sweeps of a large stage, in halves
     SplitImpulses split_;                    ///< the position correction
+    SoftStep soft_;                          ///< the soft step solver
     std::vector<std::size_t> order_, placeAt_;  ///< keep()'s buffers: the contacts sorted by pair
 
+    /// Adds to the step's contacts the points of last step that the kernels no longer report and
+    /// that still touch: within kKeepGap of touching, slid less than kKeepSlide, not within
+    /// kWarmStartDistance of a point of this step, up to kMaxContactPoints a contact; and a contact
+    /// of such points for a pair the kernels report no more.
+    void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts);
     /// The first pass and the sweeps of a small stage: the plain loop (see step()).
     void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps);
     /// Last step's sums of contact c's points, and their approach now.
     void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums) const;
     /// Keeps this step's sums, sorted by pair, for the next step.
-    void keep(const std::vector<Contact>& contacts, std::size_t bodies);
+    void keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies);
 };
 
 }  // namespace gpl

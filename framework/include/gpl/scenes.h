@@ -27,6 +27,8 @@ struct Scene {
     Vec3 viewTarget = Vec3::Zero();  ///< m
     double viewDistance = 0.0;       ///< m
     double viewSeconds = 10.0;       ///< s
+    /// The friction stage's contact solver (scenes that require it); changeable at run time.
+    ContactSolver contactSolver = ContactSolver::SequentialImpulses;
 };
 
 class SceneRegistry {

@@ -15,8 +15,14 @@ namespace gpl {
 /// How far body b must move along n to leave body a, measured on the line through p along n (m):
 /// where a's stretch of that line ends minus where b's begins. Positive while they overlap there,
 /// negative across a gap; NaN when the line misses either body. (n points from a towards b, as a
-/// contact's normal does.)
-double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n);
+/// contact's normal does.) With a margin (m), measured on the bodies grown as collide() grows them
+/// for it, less the margin: the same for points on faces, and a point that lies on the grown faces
+/// just outside the bodies themselves still has its depth.
+double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n, double margin = 0.0);
+/// p moved along n to midway between where body a ends and body b begins on the line through p
+/// (each body's own surface, found on the bodies grown by the margin as depthAlong() grows them);
+/// p itself when the line misses either.
+Vec3 betweenSurfaces(const Body& a, const Body& b, const Vec3& p, const Vec3& n, double margin);
 
 class SplitImpulses {
 public:
