@@ -32,15 +32,19 @@ using gpl::study::fixed;
 using gpl::study::pad;
 using gpl::study::sci;
 
-// This engine's contact solver configurations, applied after the scene is loaded: one line each.
+// This engine's contact solvers, each set after the scene is loaded.
 struct SolverConfig {
     std::string name;
     std::function<void(PhysicsEngine&)> select;
 };
-const std::vector<SolverConfig> kSolvers{
-    {"seq. impulses", [](PhysicsEngine& e) { e.setContactSolver(gpl::ContactSolver::SequentialImpulses); }},
-    {"soft step", [](PhysicsEngine& e) { e.setContactSolver(gpl::ContactSolver::SoftStep); }},
-};
+std::vector<SolverConfig> solvers() {
+    std::vector<SolverConfig> all;
+    for (const gpl::ContactSolver solver : gpl::kContactSolvers) {
+        all.push_back({gpl::contactSolverName(solver), [solver](PhysicsEngine& e) { e.setContactSolver(solver); }});
+    }
+    return all;
+}
+const std::vector<SolverConfig> kSolvers = solvers();
 
 // The scenes run by default: every stacking scene, then worksheet 7's stack and worksheet 6's
 // frictionless corner drop.
@@ -246,7 +250,7 @@ int main(int argc, char** argv) {
                   << "top drift: the body highest at the start, its distance from there at the end; speed: the fastest point"
                   << " over the last second (peak: over the run); dE: total energy end - start; overlap: the deepest over the last"
                   << " second; ms: median wall time per step\n\n";
-        const std::vector<std::size_t> widths{28, 16, 8, 11, 11, 11, 12, 11, 9};
+        const std::vector<std::size_t> widths{28, 21, 8, 11, 11, 11, 12, 11, 9};
         const char* header[] = {"scene", "solver", "verdict", "top drift m", "speed m/s", "peak m/s", "dE J", "overlap m", "ms"};
         for (std::size_t c = 0; c < widths.size(); ++c) std::cout << pad(header[c], widths[c]);
         std::cout << '\n';

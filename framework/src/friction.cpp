@@ -78,6 +78,7 @@ const char* contactSolverName(ContactSolver solver) {
     switch (solver) {
         case ContactSolver::SequentialImpulses: return "sequential impulses";
         case ContactSolver::SoftStep: return "soft step";
+        case ContactSolver::Baumgarte: return "Baumgarte";
     }
     return "?";
 }
@@ -128,8 +129,13 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     }
 
     // 2-4. Approaches, warm starts and the sweeps: a small stage in the plain loop below, a large
-    // one in two halves (ContactSweeps, the same result to the bit).
-    if (sums_.size() < ContactSweeps::kSplitFrom) {
+    // one in two halves (ContactSweeps, the same result to the bit); or the baseline's.
+    if (solver == ContactSolver::Baumgarte) {
+        for (std::size_t c = 0; c < contacts.size(); ++c) {
+            start(contacts, c, bodies[contacts[c].a], bodies[contacts[c].b], &sums_[first_[c]]);
+        }
+        baumgarte_.run(bodies, invI_, contacts, first_, depths_, sums_, kContactSlop, h, sweeps);
+    } else if (sums_.size() < ContactSweeps::kSplitFrom) {
         sweep(bodies, contacts, sweeps);
     } else {
         const ContactSweeps::Start begin = [this, &contacts](std::size_t c, const Body& a, const Body& b,
@@ -159,7 +165,12 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
         }
     }
 
-    // 6. Overlap left beyond the slop: split impulses, in positions only.
+    // 6. Overlap left beyond the slop: split impulses, in positions only (the baseline's bias has
+    // answered it in the velocities).
+    if (solver == ContactSolver::Baumgarte) {
+        keep(contacts, bodies);
+        return;
+    }
     split_.clear();
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& con = contacts[c];

@@ -17,25 +17,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gpl/contact_point.h"
 #include "gpl/friction.h"
 
 namespace gpl {
 namespace {
-
-// A unit vector perpendicular to n, and its partner n x t1.
-std::pair<Vec3, Vec3> tangents(const Vec3& n) {
-    const Vec3 t1 = (std::abs(n.x()) < 0.57 ? Vec3::UnitX() : Vec3::UnitY()).cross(n).normalized();
-    return {t1, n.cross(t1)};
-}
-
-// The effective mass (kg) of the pair at lever arms ra, rb along the unit direction d; 0 when
-// neither body can move that way.
-double effectiveMass(const Body& a, const Body& b, const Mat3& invIa, const Mat3& invIb, const Vec3& ra,
-                     const Vec3& rb, const Vec3& d) {
-    const Vec3 rad = ra.cross(d), rbd = rb.cross(d);
-    const double w = a.invMass + b.invMass + rad.dot(invIa * rad) + rbd.dot(invIb * rbd);
-    return w > 0.0 ? 1.0 / w : 0.0;
-}
 
 // The soft constraint of a spring of frequency hertz and damping ratio zeta over a substep hs:
 // the share of the overlap pushed out per second, and how much of a rigid constraint's impulse it
@@ -84,7 +70,7 @@ void SoftStep::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, con
             p.ra = con.points[k] - a.position;
             p.rb = con.points[k] - b.position;
             p.n = con.normal;
-            std::tie(p.t1, p.t2) = tangents(p.n);
+            std::tie(p.t1, p.t2) = tangentBasis(p.n);
             p.mn = effectiveMass(a, b, invI[con.a], invI[con.b], p.ra, p.rb, p.n);
             p.mt1 = effectiveMass(a, b, invI[con.a], invI[con.b], p.ra, p.rb, p.t1);
             p.mt2 = effectiveMass(a, b, invI[con.a], invI[con.b], p.ra, p.rb, p.t2);

@@ -30,7 +30,8 @@ void App::display() {
     // Fly mode: held keys move the camera at 8 m/s.
     if (camera_.flying()) {
         const double d = 8.0 * std::min(real, 0.1);
-        camera_.move(Vec3((held_['d'] - held_['a']) * d, (held_['e'] - held_['q']) * d, (held_['w'] - held_['s']) * d));
+        const auto held = [this](unsigned char key) { return held_[key] ? 1.0 : 0.0; };
+        camera_.move(Vec3((held('d') - held('a')) * d, (held('e') - held('q')) * d, (held('w') - held('s')) * d));
     }
     session_.frame(std::min(real, 0.25));
     const auto physicsDone = SteadyClock::now();

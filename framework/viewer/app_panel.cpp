@@ -139,7 +139,7 @@ void App::drawPanel() {
         }
         if (e.requiredStages().contains(Stage::Friction) &&
             ImGui::BeginCombo("contact solver", contactSolverName(e.contactSolver()))) {
-            for (ContactSolver solver : {ContactSolver::SequentialImpulses, ContactSolver::SoftStep}) {
+            for (ContactSolver solver : kContactSolvers) {
                 if (ImGui::Selectable(contactSolverName(solver), solver == e.contactSolver())) {
                     session_.setContactSolver(solver);
                 }

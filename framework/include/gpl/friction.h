@@ -17,6 +17,7 @@
 #include <functional>
 #include <vector>
 
+#include "gpl/baumgarte.h"
 #include "gpl/body.h"
 #include "gpl/contact.h"
 #include "gpl/halves.h"
@@ -54,12 +55,18 @@ constexpr double kContactSlop = 0.0005;
 
 /// The friction stage's contact solvers, each in a file of its own (a scene chooses one).
 enum class ContactSolver {
+    /// The baseline: sequential impulses with a Baumgarte bias, positions that follow the
+    /// velocities and no position pass (baumgarte.cpp).
+    Baumgarte,
     /// Sequential impulses: the sweeps of the worksheet's kernels over the step, then positions that
     /// follow the velocities and split impulses for what still overlaps (friction.cpp).
     SequentialImpulses,
     /// Soft step: substeps with soft contacts and a relaxing solve each (soft_step.cpp).
     SoftStep,
 };
+/// Every contact solver, in the order the viewer and the benchmark list them.
+inline constexpr std::array<ContactSolver, 3> kContactSolvers{ContactSolver::Baumgarte, ContactSolver::SequentialImpulses,
+                                                              ContactSolver::SoftStep};
 /// The solver's name as the viewer and the benchmark show it.
 const char* contactSolverName(ContactSolver solver);
 
@@ -219,6 +226,7 @@ private:
     ContactSweeps sweeps_;                   ///< the sweeps of a large stage, in halves
     SplitImpulses split_;                    ///< the position correction
     SoftStep soft_;                          ///< the soft step solver
+    BaumgarteImpulses baumgarte_;            ///< the baseline solver
     std::vector<std::size_t> order_, placeAt_;  ///< keep()'s buffers: the contacts sorted by pair
 
     /// Adds to the step's contacts the points of last step that the kernels no longer report and

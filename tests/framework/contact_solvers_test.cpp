@@ -1,12 +1,15 @@
-// The soft step contact solver (soft_step.h) with the reference hooks in the engine's whole step,
-// against closed forms: static friction holds a block on a gentle incline, sliding friction gives
-// the acceleration g (sin theta - mu_d cos theta) on a steep one, a thrown ball rolls at 5/7 of its
-// speed, restitution returns e times the approach, and a column of boxes keeps its contacts'
-// overlap to millimetres.
+// The friction stage's other contact solvers with the reference hooks in the engine's whole step.
+// The soft step (soft_step.h) against closed forms: static friction holds a block on a gentle
+// incline, sliding friction gives the acceleration g (sin theta - mu_d cos theta) on a steep one, a
+// thrown ball rolls at 5/7 of its speed, restitution returns e times the approach, and a column of
+// boxes keeps its contacts' overlap to millimetres. The baseline (baumgarte.h) against what its
+// bias is: a box started in the floor leaves it with the bias's speed, where sequential impulses'
+// split impulses move it out and leave it at rest.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "gpl/baumgarte.h"
 #include "gpl/engine.h"
 #include "gpl/scenes.h"
 
@@ -105,6 +108,29 @@ TEST(SoftStep, ATenCubeColumnOverlapsByLessThanTwoMillimetresAtItsBase) {
     for (const Contact& c : e.contacts()) deepest = std::max(deepest, c.depth);
     EXPECT_LT(deepest, 2e-3);
     EXPECT_GT(deepest, 0.0) << "a soft contact carrying weight overlaps";
+}
+
+// A 1 kg box started 2 cm into a floor of restitution 0, solved by `solver`; its velocity after one step.
+Vec3 afterOneStepInTheFloor(ContactSolver solver) {
+    PhysicsEngine e;
+    e.setRequiredStages(kFrictionStages);
+    e.setContactSolver(solver);
+    e.add(plane("floor", Vec3::UnitY()).rough(0.5, 0.5).bouncy(0.0));
+    e.add(box("box", Vec3::Constant(0.25), 1.0).at({0.0, 0.25 - 0.02, 0.0}).rough(0.5, 0.5).bouncy(0.0));
+    e.step();
+    return e.body("box").velocity;
+}
+
+TEST(Baumgarte, TheBiasThatPushesABoxOutOfTheFloorStaysInItsVelocity) {
+    // The overlap after integration is 2 cm + g h^2; the bias asks for kBias (d - slop) / h upwards.
+    const double h = kDefaultTimeStep, d = 0.02 + 9.81 * h * h;
+    const double bias = BaumgarteImpulses::kBias * (d - kContactSlop) / h;  // m/s
+    // Every corner asks for the same speed, so the box leaves with it (ten sweeps over four corners
+    // that each turn the box converge to 1e-4 of it).
+    EXPECT_NEAR(afterOneStepInTheFloor(ContactSolver::Baumgarte).y(), bias, 1e-4 * bias);
+    // Sequential impulses correct the same overlap in positions alone: the box is left at rest (as
+    // near as the same ten sweeps come, a ten-thousandth of that speed).
+    EXPECT_NEAR(afterOneStepInTheFloor(ContactSolver::SequentialImpulses).y(), 0.0, 1e-4 * bias);
 }
 
 }  // namespace
