@@ -64,24 +64,9 @@ void SoftStep::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, con
         const Body& b = bodies[con.b];
         for (int k = 0; k < con.pointCount; ++k) {
             const std::size_t i = first[c] + k;
-            Point p{};
-            p.a = con.a;
-            p.b = con.b;
-            p.ra = con.points[k] - a.position;
-            p.rb = con.points[k] - b.position;
-            p.n = con.normal;
-            std::tie(p.t1, p.t2) = tangentBasis(p.n);
-            p.mn = effectiveMass(a, b, invI[con.a], invI[con.b], p.ra, p.rb, p.n);
-            p.mt1 = effectiveMass(a, b, invI[con.a], invI[con.b], p.ra, p.rb, p.t1);
-            p.mt2 = effectiveMass(a, b, invI[con.a], invI[con.b], p.ra, p.rb, p.t2);
+            Point p{prepare(con, k, a, b, invI[con.a], invI[con.b], sums[i].normal, sums[i].tangent)};
             p.separation = -depth[i];
             p.approach = sums[i].approach;
-            p.restitution = con.restitution;
-            p.staticFriction = con.staticFriction;
-            p.friction = con.friction;
-            p.normal = sums[i].normal;
-            p.tangent1 = sums[i].tangent.dot(p.t1);
-            p.tangent2 = sums[i].tangent.dot(p.t2);
             points_.push_back(p);
         }
     }
@@ -165,12 +150,7 @@ void SoftStep::solve(const std::vector<Body>& bodies, const std::vector<Mat3>& i
         const Vec3 u = relativeVelocity(p);
         double f1 = p.tangent1 - p.mt1 * u.dot(p.t1);
         double f2 = p.tangent2 - p.mt2 * u.dot(p.t2);
-        const double length = std::hypot(f1, f2);
-        if (length > p.staticFriction * p.normal) {  // slides: mu_d times the normal, against the slip
-            const double scale = length > 0.0 ? p.friction * p.normal / length : 0.0;
-            f1 *= scale;
-            f2 *= scale;
-        }
+        clampToCone(f1, f2, p.normal, p.staticFriction, p.friction);
         push(p, (f1 - p.tangent1) * p.t1 + (f2 - p.tangent2) * p.t2, bodies, invI);
         p.tangent1 = f1;
         p.tangent2 = f2;

@@ -12,6 +12,7 @@
 
 #include "gpl/body.h"
 #include "gpl/contact.h"
+#include "gpl/contact_point.h"
 
 namespace gpl {
 
@@ -32,15 +33,8 @@ public:
 
 private:
     /// A contact point, prepared once per step.
-    struct Point {
-        std::size_t a, b;
-        Vec3 ra, rb;          ///< lever arms from the centres of mass (m)
-        Vec3 n, t1, t2;       ///< normal (from a towards b) and two tangents, an orthonormal basis
-        double mn, mt1, mt2;  ///< effective masses along n, t1, t2 (kg)
-        double target;        ///< normal velocity the point should leave with (m/s)
-        double staticFriction, friction;
-        double normal = 0.0;                    ///< summed normal impulse (N s), >= 0
-        double tangent1 = 0.0, tangent2 = 0.0;  ///< summed friction impulse along t1, t2 (N s)
+    struct Point : PreparedPoint {
+        double target = 0.0;  ///< normal velocity the point should leave with (m/s)
     };
     std::vector<Point> points_;
 };

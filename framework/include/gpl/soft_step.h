@@ -13,6 +13,7 @@
 
 #include "gpl/body.h"
 #include "gpl/contact.h"
+#include "gpl/contact_point.h"
 
 namespace gpl {
 
@@ -42,18 +43,11 @@ public:
              double h, int substeps = kSubsteps);
 
 private:
-    /// A contact point, prepared once per step.
-    struct Point {
-        std::size_t a, b;
-        Vec3 ra, rb;          ///< lever arms from the centres of mass where the bodies are now (m)
-        Vec3 n, t1, t2;       ///< normal (from a towards b) and two tangents, an orthonormal basis
-        double mn, mt1, mt2;  ///< effective masses along n, t1, t2 (kg)
-        double separation;    ///< gap at the point where the bodies are now (m; < 0 overlapping)
-        double approach;      ///< normal velocity when the stage began (m/s; < 0 approaching)
-        double restitution, staticFriction, friction;
-        double normal = 0.0;  ///< normal impulse of this substep (N s), >= 0
-        double tangent1 = 0.0, tangent2 = 0.0;  ///< friction impulse of this substep along t1, t2 (N s)
-        double largestNormal = 0.0;             ///< the largest normal impulse of any substep (N s)
+    /// A contact point, prepared once per step; its sums are those of one substep.
+    struct Point : PreparedPoint {
+        double separation = 0.0;     ///< gap at the point where the bodies are now (m; < 0 overlapping)
+        double approach = 0.0;       ///< normal velocity when the stage began (m/s; < 0 approaching)
+        double largestNormal = 0.0;  ///< the largest normal impulse of any substep (N s)
     };
     std::vector<Point> points_;
     std::vector<Vec3> v_, w_;        ///< per body: velocity and angular velocity in the substeps
