@@ -10,10 +10,7 @@
 // never on the threads.
 //
 // Each half solves its movable bodies where they are, in the engine's array (each body on cache lines
-// of its own). Packed copies of each half's bodies, side by side in an array of their own, were
-// tried: copying the bodies in and out cost more than they saved once the friction stage's first
-// pass ran in the halves too (whole runs timed in pairs, without the copies: 0.97 of the time on the
-// 1000-sphere, 8000-sphere and 1000-cube heaps).
+// of its own), not in packed copies: copying the bodies in and out costs more than it saves.
 //
 // Each body also has a version that counts its changes, kept per side (a thread writes only its own
 // side's), for stages that skip what nothing has changed since it was last looked at.

@@ -36,7 +36,7 @@ public:
 private:
     /// The thread and what it shares with the caller, owned (second_thread.cpp). Hidden, and held by
     /// a plain pointer, so that every file that includes the engine stays free of <thread>, <mutex>
-    /// and <memory> (5 % more lines to compile in every hook file and test).
+    /// and <memory>, which would add to what every hook file and test compiles.
     struct Shared;
     Shared* shared_;
 };
