@@ -214,9 +214,10 @@ public:
     /// applyNormalImpulse() and applyFrictionImpulse() at every point; then every body ends the step
     /// where its new velocity takes it (moved by h times the change of its velocity, turned by h times
     /// the change of its angular velocity), and overlap deeper than kContactSlop is reduced by split
-    /// impulses, in positions only (split_impulses.h). It keeps the sums for the next step. In a
-    /// scene that requires it, applyCollisionImpulses() and resolveInterpenetrations() leave the
-    /// contacts to it.
+    /// impulses, in positions only (split_impulses.h). It keeps the sums for the next step. That
+    /// is sequential impulses, the default of contactSolver(); the baseline (baumgarte.h) and the
+    /// soft step (soft_step.h) answer the same contacts their own ways. In a scene that requires
+    /// it, applyCollisionImpulses() and resolveInterpenetrations() leave the contacts to it.
     void solveContacts();
 
     // ---- Hooks not implemented yet ------------------------------------------------------------

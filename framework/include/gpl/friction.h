@@ -8,7 +8,8 @@
 //   applyWarmStart()        last step's sums applied again before the first sweep
 // All three act on the bodies through applyImpulseAtPoint() (worksheet 6).
 // Framework (friction.cpp): the friction stage, FrictionStage (PhysicsEngine::solveContacts() runs it),
-// with a plain loop of sweeps for a small stage and ContactSweeps (contact_sweeps.cpp) for a large one.
+// with a plain loop of sweeps for a small stage and ContactSweeps (contact_sweeps.cpp) for a large one;
+// a scene may choose another ContactSolver in place of these sweeps (baumgarte.h, soft_step.h).
 #pragma once
 
 #include <array>
