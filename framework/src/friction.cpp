@@ -144,8 +144,8 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     }
 
     // Each point's overlap at the end of the step: its overlap now, less what the change of its
-    // normal velocity in the stage moves it apart in h.
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
+    // normal velocity in the stage moves it apart in h (for the position pass, which the baseline has not).
+    for (std::size_t c = 0; solver != ContactSolver::Baumgarte && c < contacts.size(); ++c) {
         const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
             const double now = normalVelocityAt(con, bodies[con.a], bodies[con.b], con.points[k]);
