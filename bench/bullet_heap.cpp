@@ -3,7 +3,8 @@
 // solver with the same iteration count, no sleeping, one fixed step of 1/60 s per call. Bullet's
 // pair friction is the product of the two bodies' coefficients (btManifoldResult::
 // calculateCombinedFriction) where this engine's is their geometric mean: each Bullet body gets
-// sqrt(kFriction), so that every pair, with the ground or between bodies, has kFriction in both.
+// sqrt(kFriction), the ground too, so that every pair, with the ground or between bodies, has
+// kFriction in both; the table's header prints the coefficient each engine's contacts hold.
 #include <btBulletDynamicsCommon.h>
 
 #include <cmath>
@@ -63,6 +64,16 @@ public:
         double points = 0.0;
         for (int m = 0; m < dispatcher_.getNumManifolds(); ++m) points += dispatcher_.getManifoldByIndexInternal(m)->getNumContacts();
         return points;
+    }
+    std::pair<double, double> pairFriction() const override {
+        double ground = std::nan(""), between = std::nan("");
+        for (int m = 0; m < dispatcher_.getNumManifolds(); ++m) {
+            const btPersistentManifold* manifold = dispatcher_.getManifoldByIndexInternal(m);
+            if (manifold->getNumContacts() == 0) continue;
+            const bool withGround = manifold->getBody0() == &ground_ || manifold->getBody1() == &ground_;
+            (withGround ? ground : between) = manifold->getContactPoint(0).m_combinedFriction;
+        }
+        return {ground, between};
     }
     std::vector<HeapBody> state() const override {
         const auto vec = [](const btVector3& u) { return Vec3(u.x(), u.y(), u.z()); };

@@ -1,8 +1,8 @@
 // gpl-bench-engine: this engine against Bullet on the same heap of spheres or of cubes (./lab bench
-// engine [--shape box]),
-// side by side from one run: time per step, contacts per step and the quality of the settled heap,
-// for heaps of growing size, with the fitted scaling exponent of each engine; and the cost of
-// integration alone against a bare loop over packed arrays.
+// engine [--shape box]), side by side from one run: time per step, contacts per step and the quality
+// of the settled heap, for heaps of growing size, with the fitted scaling exponent of each engine;
+// this engine on one thread and on two side by side (--threads 1 2), and beside a busy process
+// (--busy); and the cost of integration alone against a bare loop over packed arrays.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -10,10 +10,17 @@
 #include <functional>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <thread>
 #include <utility>
 #include <vector>
+
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "command_line.h"
 #include "gpl/body.h"
@@ -141,6 +148,35 @@ void secondThreadGain(std::ostream& out) {
         << "x for eight independent multiply-add chains\n";
 }
 
+// One busy process beside the run: a child of this program that spins on a core until it is killed,
+// as a compiler or a batch job beside the engine would keep a core. The destructor kills it and
+// waits for it; should this program die first (a signal, a crash), the kernel kills it
+// (PR_SET_PDEATHSIG), so that it is never left behind.
+class BusyProcess {
+public:
+    BusyProcess() {
+        const pid_t parent = getpid();
+        pid_ = fork();
+        if (pid_ < 0) throw std::runtime_error("--busy: could not start the busy process");
+        if (pid_ == 0) {
+            prctl(PR_SET_PDEATHSIG, SIGKILL);
+            if (getppid() != parent) _exit(0);  // the parent died before prctl()
+            for (volatile unsigned long k = 0;; k = k + 1) {
+            }
+        }
+    }
+    ~BusyProcess() {
+        kill(pid_, SIGKILL);
+        waitpid(pid_, nullptr, 0);
+    }
+    BusyProcess(const BusyProcess&) = delete;
+    BusyProcess& operator=(const BusyProcess&) = delete;
+    pid_t pid() const { return pid_; }
+
+private:
+    pid_t pid_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -148,8 +184,9 @@ int main(int argc, char** argv) {
     std::vector<std::size_t> sizes;  // default: kSphereSizes or kBoxSizes
     std::string out = "build/engine";
     bool skipBullet = false;
+    bool busy = false;
     std::string shapeName = "sphere";
-    int threads = gpl::PhysicsEngine().threads();
+    std::vector<int> threadCounts;  // default: the engine's, or 1 and 2 with --busy
     int interpenetration = gpl::bench::kInterpenetrationIterations;
     app.add_option("--shape", shapeName, "what the heap is made of: sphere (radius 0.5 m) or box (cubes of half side 0.3 m)")
         ->check(CLI::IsMember({"sphere", "box"}));
@@ -157,13 +194,21 @@ int main(int argc, char** argv) {
         ->check(gpl::cli::wholeNumber(1, 1000000));
     app.add_option("--out", out, "folder for engine.csv and the plot's data");
     app.add_flag("--no-bullet", skipBullet, "this engine only");
-    app.add_option("--threads", threads, "threads of this engine's broad phase and friction stage (1 or 2; default: 2 on two cores)")
+    app.add_option("--threads", threadCounts,
+                   "threads of this engine's broad phase and friction stage, 1 or 2, or both (1 2: a row each, taking "
+                   "turns; default: 2 on two cores, both with --busy)")
         ->check(gpl::cli::wholeNumber(1, 2));
+    app.add_flag("--busy", busy,
+                 "one busy process (a child that spins on a core) beside the whole run, killed at its end: what the "
+                 "engine gives on a machine whose other core is taken");
     app.add_option("--interpenetration", interpenetration,
                    "this engine's sweeps of position correction (interpenetration) per step (default: 3; 10: as many as the solver's)")
         ->check(gpl::cli::wholeNumber(1, 100));
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     if (sizes.empty()) sizes = shapeName == "box" ? kBoxSizes : kSphereSizes;
+    if (threadCounts.empty()) threadCounts = busy ? std::vector<int>{1, 2} : std::vector<int>{gpl::PhysicsEngine().threads()};
+    std::sort(threadCounts.begin(), threadCounts.end());
+    threadCounts.erase(std::unique(threadCounts.begin(), threadCounts.end()), threadCounts.end());
     if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
         std::cerr << error << '\n';
         return 2;
@@ -174,65 +219,106 @@ int main(int argc, char** argv) {
         return 2;
     }
     try {
+        // Made before any thread of this program, so that the child is a plain copy of one thread.
+        std::optional<BusyProcess> spinner;
+        if (busy) spinner.emplace();
         gpl::study::Output output(out);
         const bool boxes = shapeName == "box";
         const gpl::bench::HeapShape shape = boxes ? gpl::bench::HeapShape::Boxes : gpl::bench::HeapShape::Spheres;
         const std::string stem = boxes ? "engine-boxes" : "engine";  // of the files written
+        const bool bothCounts = threadCounts.size() > 1;
+        const auto threadsName = [](int t) { return std::to_string(t) + (t == 1 ? " thread" : " threads"); };
         std::cout << (boxes ? "heap of cubes (half side 0.3 m, 1 kg, turned at random" : "heap of spheres (r = 0.5 m, 1 kg")
                   << ", lattice 1.2 m, fixed seed) dropped on a plane; steps of 1/60 s, "
                   << gpl::bench::kIterations << " solver iterations (this engine: " << interpenetration
                   << " sweeps of position correction); times per step over the whole fall and settling, "
-                  << (bullet ? "the two engines taking turns of " + std::to_string(gpl::bench::kTurn) + " steps; " : std::string())
-                  << "this engine's broad phase and friction stage on " << threads
-                  << (threads == 1 ? " thread\n" : " threads\n")
-                  << "friction: the pair coefficient " << gpl::bench::kFriction << " in both engines, this engine's"
+                  << (bullet || bothCounts ? "the engines taking turns of " + std::to_string(gpl::bench::kTurn) + " steps; "
+                                           : std::string())
+                  << "this engine's broad phase and friction stage on ";
+        for (std::size_t i = 0; i < threadCounts.size(); ++i) {
+            std::cout << (i == 0 ? "" : " and on ") << threadsName(threadCounts[i]);
+        }
+        std::cout << '\n';
+        if (spinner) {
+            std::cout << "beside one busy process (pid " << spinner->pid()
+                      << ", spinning on a core from start to end of the run, killed then)\n";
+        }
+        std::cout << "friction: the pair coefficient " << gpl::bench::kFriction << " in both engines, this engine's"
                   << " sqrt(mu_a mu_b) of its bodies' " << gpl::bench::kFriction << " (worksheet 7's friction stage),"
                   << " Bullet's the product of its bodies' " << fixed(std::sqrt(gpl::bench::kFriction), 3) << " (sqrt "
-                  << gpl::bench::kFriction << "); restitution 0 in both\n\n";
-        const std::vector<std::size_t> widths{8, 8, 7, 12, 12, 9, 12, 12, 10, 12};
-        const char* header[] = {"N", "engine", "steps", "median ms", "p90 ms", "ours/B", "contacts", "deepest m",
-                                "height m", "KE end J"};
+                  << gpl::bench::kFriction << ", the plane's too); restitution 0 in both\n\n"
+                  << std::flush;
+        const std::vector<std::size_t> widths{8, 16, 7, 11, 11, 9, 11, 10, 11, 10, 11, 11};
+        const char* header[] = {"N",        "engine",    "steps",    "median ms", "p90 ms",   "/Bullet",
+                                "/1 thread", "contacts", "deepest m", "height m", "KE end J", "max v m/s"};
         for (std::size_t c = 0; c < widths.size(); ++c) std::cout << pad(header[c], widths[c]);
         std::cout << '\n';
         auto csv = output.open(stem + ".csv");
-        csv << "bodies,engine,steps,median_ms,p90_ms,contacts_per_step,deepest_m,height_m,kinetic_j\n";
-        std::vector<HeapRun> ours, theirs;
+        csv << "bodies,engine,threads,busy,steps,median_ms,p90_ms,contacts_per_step,deepest_m,height_m,kinetic_j,"
+               "fastest_m_s\n";
+        // Per thread count, this engine's runs; Bullet's.
+        std::vector<std::vector<HeapRun>> ours(threadCounts.size());
+        std::vector<HeapRun> theirs;
+        std::pair<double, double> friction[2] = {{std::nan(""), std::nan("")}, {std::nan(""), std::nan("")}};
         for (std::size_t n : sizes) {
-            const std::unique_ptr<gpl::bench::HeapSim> mine = gpl::bench::ourHeap(shape, n, threads, interpenetration);
-            const std::unique_ptr<gpl::bench::HeapSim> other = bullet ? gpl::bench::bulletHeap(shape, n) : nullptr;
-            std::vector<std::pair<std::string, gpl::bench::HeapSim*>> engines{{"ours", mine.get()}};
-            if (bullet) engines.emplace_back("Bullet", other.get());
-            const std::vector<HeapRun> pair = gpl::bench::runInTurns(shape, n, gpl::bench::settleTime(n), engines);
-            ours.push_back(pair[0]);
-            if (bullet) theirs.push_back(pair[1]);
-            for (const HeapRun& r : pair) {
-                const std::string ratio =
-                    bullet && &r == &pair[0] ? fixed(pair[0].medianMs / pair[1].medianMs, 2) : std::string("");
-                const std::string cells[] = {std::to_string(n), r.engine, std::to_string(r.steps), fixed(r.medianMs, 3),
-                                             fixed(r.p90Ms, 3), ratio, fixed(r.contactsPerStep, 0), sci(r.deepest),
-                                             fixed(r.height, 2), sci(r.kinetic)};
+            std::vector<std::unique_ptr<gpl::bench::HeapSim>> sims;
+            std::vector<std::pair<std::string, gpl::bench::HeapSim*>> engines;
+            for (int t : threadCounts) {
+                sims.push_back(gpl::bench::ourHeap(shape, n, t, interpenetration));
+                engines.emplace_back(bothCounts ? "ours " + threadsName(t) : std::string("ours"), sims.back().get());
+            }
+            if (bullet) {
+                sims.push_back(gpl::bench::bulletHeap(shape, n));
+                engines.emplace_back("Bullet", sims.back().get());
+            }
+            const std::vector<HeapRun> runs = gpl::bench::runInTurns(shape, n, gpl::bench::settleTime(n), engines);
+            friction[0] = sims.front()->pairFriction();
+            if (bullet) friction[1] = sims.back()->pairFriction();
+            for (std::size_t e = 0; e < threadCounts.size(); ++e) ours[e].push_back(runs[e]);
+            if (bullet) theirs.push_back(runs.back());
+            for (std::size_t e = 0; e < runs.size(); ++e) {
+                const HeapRun& r = runs[e];
+                const bool mine = e < threadCounts.size();
+                const std::string overBullet = bullet && mine ? fixed(r.medianMs / runs.back().medianMs, 2) : "";
+                const std::string overOne =
+                    bothCounts && mine && threadCounts[e] != 1 ? fixed(r.medianMs / runs.front().medianMs, 2) : "";
+                const std::string cells[] = {std::to_string(n),   r.engine,           std::to_string(r.steps),
+                                             fixed(r.medianMs, 3), fixed(r.p90Ms, 3), overBullet,
+                                             overOne,              fixed(r.contactsPerStep, 0), sci(r.deepest),
+                                             fixed(r.height, 2),   sci(r.kinetic),    fixed(r.fastest, 2)};
                 for (std::size_t c = 0; c < widths.size(); ++c) std::cout << pad(cells[c], widths[c]);
                 std::cout << std::endl;
-                csv << n << ',' << r.engine << ',' << r.steps << ',' << r.medianMs << ',' << r.p90Ms << ','
-                    << r.contactsPerStep << ',' << r.deepest << ',' << r.height << ',' << r.kinetic << '\n';
+                csv << n << ',' << (mine ? "ours" : "Bullet") << ',' << (mine ? threadCounts[e] : 1) << ','
+                    << (busy ? 1 : 0) << ',' << r.steps << ',' << r.medianMs << ',' << r.p90Ms << ','
+                    << r.contactsPerStep << ',' << r.deepest << ',' << r.height << ',' << r.kinetic << ','
+                    << r.fastest << '\n';
             }
         }
+        std::cout << "\nthe pair friction the contacts hold at the end (with the plane, between bodies): this engine "
+                  << fixed(friction[0].first, 3) << ", " << fixed(friction[0].second, 3);
+        if (bullet) std::cout << "; Bullet " << fixed(friction[1].first, 3) << ", " << fixed(friction[1].second, 3);
+        std::cout << '\n';
+        // The plot: this engine's fastest thread count against Bullet.
+        const std::vector<HeapRun>& plotted = ours.back();
         auto dat = output.open(stem + "-scaling.dat");
-        dat << "# bodies ours_median_ms bullet_median_ms\n";
-        for (std::size_t i = 0; i < ours.size(); ++i) {
-            dat << ours[i].bodies << ' ' << ours[i].medianMs << ' ' << (bullet ? theirs[i].medianMs : std::nan(""))
+        dat << "# bodies ours_median_ms bullet_median_ms (this engine on " << threadsName(threadCounts.back()) << ")\n";
+        for (std::size_t i = 0; i < plotted.size(); ++i) {
+            dat << plotted[i].bodies << ' ' << plotted[i].medianMs << ' ' << (bullet ? theirs[i].medianMs : std::nan(""))
                 << '\n';
         }
         if (sizes.size() < 2) {
             std::cout << "\nscaling exponent of ms per step against N: needs two sizes or more (--sizes)\n";
         } else {
-            std::cout << "\nscaling exponent of ms per step against N (least squares on log-log): this engine "
-                      << fixed(scalingExponent(ours), 2);
+            std::cout << "\nscaling exponent of ms per step against N (least squares on log-log): this engine";
+            for (std::size_t e = 0; e < threadCounts.size(); ++e) {
+                std::cout << (bothCounts ? (e == 0 ? " " : ", ") + threadsName(threadCounts[e]) + " " : " ")
+                          << fixed(scalingExponent(ours[e]), 2);
+            }
             if (bullet) std::cout << ", Bullet " << fixed(scalingExponent(theirs), 2);
             std::cout << '\n';
         }
-        if (!boxes) integrationAlone(1000, 2000, std::cout);
-        if (threads > 1) secondThreadGain(std::cout);
+        if (!boxes && !busy) integrationAlone(1000, 2000, std::cout);
+        if (threadCounts.back() > 1 && !busy) secondThreadGain(std::cout);
         std::cout << "\nwrote";
         for (const std::string& f : output.written()) std::cout << ' ' << out << '/' << f;
         std::cout << '\n';

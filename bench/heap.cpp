@@ -124,6 +124,8 @@ void measureQuality(const std::vector<HeapBody>& bodies, HeapRun& run) {
     run.deepest = 0.0;
     run.height = 0.0;
     run.kinetic = 0.0;
+    run.fastest = 0.0;
+    for (const HeapBody& b : bodies) run.fastest = std::max(run.fastest, b.velocity.norm());
     if (run.shape == HeapShape::Spheres) {
         for (const HeapBody& b : bodies) {
             run.deepest = std::max(run.deepest, kRadius - b.position.y());
@@ -198,6 +200,13 @@ public:
             if (!b.isStatic()) bodies.push_back({b.position, b.orientation, b.velocity, b.angularVelocity});
         }
         return bodies;
+    }
+    std::pair<double, double> pairFriction() const override {
+        double ground = std::nan(""), between = std::nan("");
+        for (const Contact& c : e_.contacts()) {
+            (e_.bodies()[c.a].isStatic() || e_.bodies()[c.b].isStatic() ? ground : between) = c.friction;
+        }
+        return {ground, between};
     }
 
 private:

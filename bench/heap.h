@@ -56,6 +56,7 @@ struct HeapRun {
     double deepest = 0.0;        ///< m: largest overlap between bodies or with the plane in the last second
     double height = 0.0;         ///< m: the top of the settled heap (highest sphere's top, cube's corner)
     double kinetic = 0.0;        ///< J: kinetic energy at the end, translation and rotation (settled: near 0)
+    double fastest = 0.0;        ///< m/s: the largest speed of a body's centre at the end
 };
 
 /// One engine's heap, stepped from outside, so that two engines can take turns on the machine.
@@ -68,6 +69,9 @@ public:
     virtual double contactPoints() const = 0;
     /// The movable bodies now.
     virtual std::vector<HeapBody> state() const = 0;
+    /// The friction coefficient of a contact with the plane and of one between two bodies, as the
+    /// engine's contacts hold it after the last step (NaN where there is no such contact).
+    virtual std::pair<double, double> pairFriction() const = 0;
 };
 
 /// This engine (the hooks it is linked with) on the heap, its broad phase and friction stage with
