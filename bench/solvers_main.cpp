@@ -264,6 +264,7 @@ int main(int argc, char** argv) {
             for (const SolverConfig& config : kSolvers) {
                 PhysicsEngine e;
                 gpl::load(e, scene);
+                e.setContactIterations(defaults.contactIterations());  // every solver with the same sweeps
                 config.select(e);
                 const std::vector<Body> start = e.bodies();
                 const auto read = [&e] {
@@ -278,6 +279,7 @@ int main(int argc, char** argv) {
             if (bullet) {
                 PhysicsEngine e;
                 gpl::load(e, scene);
+                e.setContactIterations(defaults.contactIterations());
                 const std::unique_ptr<gpl::bench::SceneTwin> twin = gpl::bench::bulletTwin(e);
                 row.push_back(measure(e.bodies(), e.gravity(), e.timeStep(), seconds, [&twin] { twin->step(); },
                                       [&twin] { return twin->state(); }));

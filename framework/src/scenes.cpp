@@ -74,7 +74,7 @@ void load(PhysicsEngine& engine, const Scene& scene) {
     engine.setIntegratorKind(scene.integrator);
     const PhysicsEngine defaults;
     engine.setConstraintIterations(defaults.constraintIterations());
-    engine.setContactIterations(defaults.contactIterations());
+    engine.setContactIterations(scene.contactIterations > 0 ? scene.contactIterations : defaults.contactIterations());
     engine.setInterpenetrationIterations(0);  // as many as the contact iterations
     engine.setContactSolver(scene.contactSolver);
     if (scene.build) scene.build(engine);

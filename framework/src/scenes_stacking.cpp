@@ -273,18 +273,25 @@ Scene softStep(Scene s) {
     return s;
 }
 
+// The scene solved with sequential impulses in `sweeps` sweeps a step in place of the default ten.
+Scene sweeps(int sweeps, Scene s) {
+    s.contactIterations = sweeps;
+    return s;
+}
+
 }  // namespace
 
 void addStackingScenes(SceneRegistry& r) {
     // The columns and the mass ratios run the soft step: sequential impulses with ten sweeps leave
-    // them swaying until they fall (the panel switches solvers to show it).
+    // them swaying until they fall (the panel switches solvers to show it). The column of ten off
+    // centre stands still with sixty sweeps; under the soft step, its off-centre loads make it buzz.
     r.add(softStep(scene("stack-10", "Ten cubes stacked exactly, soft step: they stand without drift or jitter.", stack10,
                          {0, 5, 0}, 24)));
-    r.add(softStep(scene("stack-10-offset", "Ten cubes stacked off centre by turns, soft step: they stand, buzzing.",
-                         stack10Offset, {0, 5, 0}, 24)));
+    r.add(sweeps(60, scene("stack-10-offset", "Ten cubes stacked off centre by turns, 60 sweeps: they stand still.",
+                           stack10Offset, {0, 5, 0}, 24)));
     r.add(softStep(scene("stack-20", "Twenty cubes stacked exactly, soft step: the bottom contact carries 19; it stands.",
                          stack20, {0, 12, 0}, 48)));
-    r.add(softStep(scene("stack-20-offset", "Twenty cubes stacked off centre by turns, soft step: it stands, buzzing.",
+    r.add(softStep(scene("stack-20-offset", "Twenty cubes stacked off centre by turns, soft step: it stays up, buzzing at cm/s.",
                          stack20Offset, {0, 12, 0}, 48)));
     r.add(scene("pyramid-10", "A pyramid of 55 cubes in ten rows: it stands, its side contacts idle.", pyramid10,
                 {0, 5, 0}, 24));

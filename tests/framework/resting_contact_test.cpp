@@ -127,6 +127,20 @@ TEST(RestingContact, ColumnOfTenCubesStandsAMinuteWithTheSoftStep) {
     expectStands("stack-10", 60.0);
 }
 
+TEST(RestingContact, ColumnOfTwentyCubesStandsAMinuteWithTheSoftStep) {
+    // The bottom contact carries nineteen cubes: the soft step's eight substeps hold it.
+    ASSERT_EQ(scenes().find("stack-20").contactSolver, ContactSolver::SoftStep);
+    expectStands("stack-20", 60.0);
+}
+
+TEST(RestingContact, OffCentreColumnOfTenStandsAMinuteWithSixtySweeps) {
+    // Sequential impulses with the sixty sweeps the scene declares (with ten it sways and falls).
+    const Scene& scene = scenes().find("stack-10-offset");
+    ASSERT_EQ(scene.contactSolver, ContactSolver::SequentialImpulses);
+    ASSERT_EQ(scene.contactIterations, 60);
+    expectStands("stack-10-offset", 60.0);
+}
+
 TEST(RestingContact, HeavyBoxOnALightOneStaysWithinACentimetreWithTheSoftStep) {
     // 100 kg on 1 kg and 1 kg between two of 100 kg: the soft step holds both (sequential impulses
     // with ten sweeps crush the light box, and the heavy one falls off it).

@@ -29,6 +29,9 @@ struct Scene {
     double viewSeconds = 10.0;       ///< s
     /// The friction stage's contact solver (scenes that require it); changeable at run time.
     ContactSolver contactSolver = ContactSolver::SequentialImpulses;
+    /// The friction stage's sweeps per step; 0: the engine's default. A scene that needs more to
+    /// stand declares them and pays for them alone; changeable at run time.
+    int contactIterations = 0;
 };
 
 class SceneRegistry {
