@@ -159,6 +159,9 @@ public:
         pid_ = fork();
         if (pid_ < 0) throw std::runtime_error("--busy: could not start the busy process");
         if (pid_ == 0) {
+            // A session of its own: the scheduler shares the cores between it and this program as
+            // between two programs started apart (Linux's autogroups), not as threads of one.
+            setsid();
             prctl(PR_SET_PDEATHSIG, SIGKILL);
             if (getppid() != parent) _exit(0);  // the parent died before prctl()
             for (volatile unsigned long k = 0;; k = k + 1) {

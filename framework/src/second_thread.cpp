@@ -1,5 +1,6 @@
 #include "gpl/second_thread.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -20,6 +21,20 @@ namespace {
 // sweep's hand-overs are a few tens of microseconds apart.
 constexpr std::chrono::microseconds kSpin{500};         // after a hand-over
 constexpr std::chrono::microseconds kWokenSpin{20000};  // after wake(): a stage's preparations
+
+// What the second thread gains, hand-over by hand-over: the time the caller's half took (what the
+// other half would have added on one thread) less the time the caller then waited for the other
+// half, and less kClaimCost when the caller found the other half not begun and ran it itself (the
+// second thread had no core; its spinning and the hand-over were for nothing). The gains add up,
+// at most to kCredit; once they fall below -kTolerance the second thread has cost more than it
+// gained, and the caller runs both halves itself, the second thread asleep, for kFirstAlone. Then it
+// tries two threads again; each try that fails doubles the time alone, up to kLongestAlone, and a
+// try whose gains reach kCredit brings it back to kFirstAlone.
+constexpr std::chrono::microseconds kClaimCost{50};
+constexpr std::chrono::microseconds kCredit{2000};
+constexpr std::chrono::microseconds kTolerance{200};
+constexpr std::chrono::milliseconds kFirstAlone{50};
+constexpr std::chrono::milliseconds kLongestAlone{2000};
 
 // Lets the other hardware thread of a shared core run while this one spins.
 inline void pause() {
@@ -59,6 +74,30 @@ struct SecondThread::Shared {
     std::atomic<std::uint64_t> done{0};     ///< the last hand-over that has been run to its end
     std::atomic<bool> stop{false};
     std::exception_ptr error;  ///< what the last work threw
+
+    // The caller's account of what the second thread gives now (only the caller reads and writes it).
+    using Clock = std::chrono::steady_clock;
+    Clock::time_point aloneUntil{};  ///< until then, the caller runs both halves itself
+    Clock::duration nextAlone = kFirstAlone;
+    Clock::duration gained{0};       ///< since the last time alone, at most kCredit
+
+    /// True while the caller is to run both halves itself.
+    bool alone() {
+        if (aloneUntil == Clock::time_point{}) return false;
+        if (Clock::now() < aloneUntil) return true;
+        aloneUntil = Clock::time_point{};  // time to try two threads again
+        return false;
+    }
+    /// Books one hand-over's gain; the caller goes alone once the second thread has cost more than it
+    /// gained.
+    void book(Clock::duration gain, Clock::time_point now) {
+        gained = std::min<Clock::duration>(gained + gain, kCredit);
+        if (gained == Clock::duration(kCredit)) nextAlone = kFirstAlone;
+        if (gained >= -Clock::duration(kTolerance)) return;
+        gained = Clock::duration(0);
+        aloneUntil = now + nextAlone;
+        nextAlone = std::min<Clock::duration>(2 * nextAlone, kLongestAlone);
+    }
 
     ~Shared() {
         if (!thread.joinable()) return;
@@ -149,15 +188,16 @@ SecondThread::SecondThread(const SecondThread&) : shared_(new Shared) {}
 SecondThread& SecondThread::operator=(const SecondThread&) { return *this; }
 
 void SecondThread::wake() {
-    if (shared_->started()) shared_->post(nullptr);
+    if (!shared_->alone() && shared_->started()) shared_->post(nullptr);
 }
 
 void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs) {
-    if (!use || !shared_->started()) {
+    if (!use || shared_->alone() || !shared_->started()) {
         mine();
         theirs();
         return;
     }
+    const auto posted = Shared::Clock::now();
     const std::uint64_t number = shared_->post(&theirs);
     std::exception_ptr mineFailed, theirsFailed;
     try {
@@ -165,9 +205,11 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
     } catch (...) {
         mineFailed = std::current_exception();
     }
+    const auto mineDone = Shared::Clock::now();
     // Their half not begun yet (the second thread may be waiting for a core that another program
     // holds): this thread runs it, and never waits for a core that is not free.
-    if (shared_->claim(number)) {
+    const bool claimed = shared_->claim(number);
+    if (claimed) {
         try {
             theirs();
         } catch (...) {
@@ -176,6 +218,9 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         shared_->done.store(number, std::memory_order_release);
     }
     shared_->finish();
+    const auto allDone = Shared::Clock::now();
+    shared_->book((mineDone - posted) - (allDone - mineDone) - (claimed ? kClaimCost : Shared::Clock::duration(0)),
+                  allDone);
     if (mineFailed) std::rethrow_exception(mineFailed);
     if (theirsFailed) std::rethrow_exception(theirsFailed);
     if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));

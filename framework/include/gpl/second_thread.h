@@ -11,6 +11,10 @@
 // halves touch different data gets the same result either way. The caller does the same when its
 // own half is done before the second thread has begun the other: on a machine whose other core is
 // busy with another program, a stage then takes the time of one thread, not the wait for a core.
+// And the thread count follows what the machine gives now: the caller keeps account of what each
+// hand-over gained (its own half's time, less its wait for the other), and once the second thread
+// has cost more than it gained, it runs both halves itself for a while, the second thread asleep,
+// then tries two threads again, staying alone longer after each try that fails.
 #pragma once
 
 #include <functional>
@@ -26,8 +30,9 @@ public:
     SecondThread& operator=(const SecondThread&);
 
     /// Runs mine() here and theirs() on the second thread (made on first use), and returns when
-    /// both have. With `use` false, or when no thread can be made, runs mine() and then theirs()
-    /// here. An exception from theirs() is thrown here once mine() has ended.
+    /// both have. With `use` false, when no thread can be made, or while the machine gives the
+    /// second thread no core, runs mine() and then theirs() here. An exception from theirs() is
+    /// thrown here once mine() has ended.
     void run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs);
     /// Makes the thread (on first use) and wakes it, so that it is spinning, not asleep, when the
     /// next run() comes: for a stage to call when it begins its preparations.
