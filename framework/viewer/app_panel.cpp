@@ -156,8 +156,17 @@ void App::drawPanel() {
                 others += (others.empty() ? "" : ", ") + std::string(stageName(stage));
                 continue;
             }
+            // While the friction stage runs, it answers the contacts and these two stand idle (they
+            // answer them again once it is switched off): shown greyed, still switchable.
+            const bool idle = (stage == Stage::Interpenetration || stage == Stage::CollisionImpulses) &&
+                              e.stageActive(Stage::Friction);
             bool on = e.stageEnabled(stage);
+            if (idle) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
             if (ImGui::Checkbox(stageName(stage), &on)) session_.setStageEnabled(stage, on);
+            if (idle) {
+                ImGui::PopStyleColor();
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("idle while the friction stage answers the contacts");
+            }
         }
         if (!others.empty()) ImGui::TextWrapped("not required: %s", others.c_str());
         if (!e.missingHooks().empty()) {
