@@ -321,7 +321,7 @@ void BroadPhase::grid(SecondThread* second) {
         swept_.push_back({e.box, e.index, e.isStatic});
     }
 
-    if (second != nullptr) {
+    if (second != nullptr && second->helps()) {
         // Two halves of the boxes, each tested against its neighbours after it; sortPairs() orders
         // the pairs.
         const std::size_t half = filed_.size() / 2;

@@ -99,7 +99,7 @@ void PhysicsEngine::detectCollisions() {
         }
     };
     const std::size_t n = nearPairs_.size();
-    if (threads() < 2 || n < kSplitPairsFrom) {
+    if (threads() < 2 || n < kSplitPairsFrom || !second_.helps()) {
         detect(0, n, contacts_);
     } else {
         // The pairs in two halves, the second on the second thread, its contacts after the first's:

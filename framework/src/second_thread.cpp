@@ -10,6 +10,8 @@
 #include <system_error>
 #include <thread>
 #include <utility>
+
+#include <time.h>
 #if defined(__x86_64__) || defined(__i386__)
 #include <immintrin.h>
 #endif
@@ -22,19 +24,26 @@ namespace {
 constexpr std::chrono::microseconds kSpin{500};         // after a hand-over
 constexpr std::chrono::microseconds kWokenSpin{20000};  // after wake(): a stage's preparations
 
-// What the second thread gains, hand-over by hand-over: the time the caller's half took (what the
-// other half would have added on one thread) less the time the caller then waited for the other
-// half, and less kClaimCost when the caller found the other half not begun and ran it itself (the
-// second thread had no core; its spinning and the hand-over were for nothing). The gains add up,
-// at most to kCredit; once they fall below -kTolerance the second thread has cost more than it
-// gained, and the caller runs both halves itself, the second thread asleep, for kFirstAlone. Then it
-// tries two threads again; each try that fails doubles the time alone, up to kLongestAlone, and a
-// try whose gains reach kCredit brings it back to kFirstAlone.
+// What the second thread gains, hand-over by hand-over: the time its half took it on its core (what
+// the half would have added on one thread; time without a core not counted) less the time the caller
+// waited for it once its own half was done; or -kClaimCost when the caller found the other half not
+// begun and ran it itself (the second thread had no core; its spinning and the hand-over were for
+// nothing). The gains add up, at most to kCredit; once they fall below -kTolerance the second
+// thread has cost more than it gained, and the caller runs both halves itself, the second thread
+// asleep, for kFirstAlone. Then it tries two threads again; each try that fails doubles the time
+// alone, up to kLongestAlone, and a try whose gains reach kCredit brings it back to kFirstAlone.
 constexpr std::chrono::microseconds kClaimCost{50};
 constexpr std::chrono::microseconds kCredit{2000};
 constexpr std::chrono::microseconds kTolerance{200};
 constexpr std::chrono::milliseconds kFirstAlone{50};
 constexpr std::chrono::milliseconds kLongestAlone{2000};
+
+// The time this thread has run on a core.
+std::chrono::nanoseconds onCore() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return std::chrono::seconds(t.tv_sec) + std::chrono::nanoseconds(t.tv_nsec);
+}
 
 // Lets the other hardware thread of a shared core run while this one spins.
 inline void pause() {
@@ -72,6 +81,7 @@ struct SecondThread::Shared {
     /// once its own half is done and the second thread has not begun (it may have no core now).
     std::atomic<std::uint64_t> claimed{0};
     std::atomic<std::uint64_t> done{0};     ///< the last hand-over that has been run to its end
+    std::chrono::nanoseconds theirsOnCore{0};  ///< the second thread's last work's time on its core
     std::atomic<bool> stop{false};
     std::exception_ptr error;  ///< what the last work threw
 
@@ -171,11 +181,13 @@ struct SecondThread::Shared {
             }
             spin = next == nullptr ? kWokenSpin : kSpin;  // woken: the hand-over comes after the preparations
             if (next != nullptr && claim(seen)) {
+                const std::chrono::nanoseconds start = onCore();
                 try {
                     (*next)();
                 } catch (...) {
                     error = std::current_exception();
                 }
+                theirsOnCore = onCore() - start;
                 done.store(seen, std::memory_order_release);
             }
         }
@@ -187,6 +199,8 @@ SecondThread::~SecondThread() { delete shared_; }
 SecondThread::SecondThread(const SecondThread&) : shared_(new Shared) {}
 SecondThread& SecondThread::operator=(const SecondThread&) { return *this; }
 
+bool SecondThread::helps() { return !shared_->alone() && shared_->started(); }
+
 void SecondThread::wake() {
     if (!shared_->alone() && shared_->started()) shared_->post(nullptr);
 }
@@ -197,7 +211,6 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         theirs();
         return;
     }
-    const auto posted = Shared::Clock::now();
     const std::uint64_t number = shared_->post(&theirs);
     std::exception_ptr mineFailed, theirsFailed;
     try {
@@ -219,8 +232,9 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
     }
     shared_->finish();
     const auto allDone = Shared::Clock::now();
-    shared_->book((mineDone - posted) - (allDone - mineDone) - (claimed ? kClaimCost : Shared::Clock::duration(0)),
-                  allDone);
+    const Shared::Clock::duration gain = claimed ? -Shared::Clock::duration(kClaimCost)
+                                                 : shared_->theirsOnCore - (allDone - mineDone);
+    shared_->book(gain, allDone);
     if (mineFailed) std::rethrow_exception(mineFailed);
     if (theirsFailed) std::rethrow_exception(theirsFailed);
     if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));

@@ -12,9 +12,10 @@
 // own half is done before the second thread has begun the other: on a machine whose other core is
 // busy with another program, a stage then takes the time of one thread, not the wait for a core.
 // And the thread count follows what the machine gives now: the caller keeps account of what each
-// hand-over gained (its own half's time, less its wait for the other), and once the second thread
-// has cost more than it gained, it runs both halves itself for a while, the second thread asleep,
-// then tries two threads again, staying alone longer after each try that fails.
+// hand-over gained (the other half's time on the second thread's core, less the caller's wait for
+// it), and once the second thread has cost more than it gained, it runs both halves itself for a
+// while, the second thread asleep, then tries two threads again, staying alone longer after each
+// try that fails.
 #pragma once
 
 #include <functional>
@@ -34,6 +35,9 @@ public:
     /// second thread no core, runs mine() and then theirs() here. An exception from theirs() is
     /// thrown here once mine() has ended.
     void run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs);
+    /// Whether run() hands theirs() to the second thread now; false without a thread and while the
+    /// machine gives it no core. A stage may then take its one-thread path, whose result is the same.
+    bool helps();
     /// Makes the thread (on first use) and wakes it, so that it is spinning, not asleep, when the
     /// next run() comes: for a stage to call when it begins its preparations.
     void wake();
