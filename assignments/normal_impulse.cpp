@@ -1,22 +1,18 @@
-// Worksheet 7, assignment 1: the normal impulse of resting contact, summed over the sweeps.
+// Worksheet 7, assignment 4: the normal impulse of resting contact, summed over the sweeps.
 //
-// Inputs:  contact   normal n (unit, from a towards b), restitution e (0..1), points p_k (m, world frame)
-//          point     k: which of contact.points
-//          invIa, invIb  worldInverseInertia() of a and b (1/(kg m^2), world frame), computed once per step
-//          a, b      x, v, omega, invMass (and what applyImpulseAtPoint() reads)
-//          sum       normal: the normal impulse this point has had in the earlier sweeps of this step
-//                    (N s, >= 0, last step's when warm started); approach: the normal velocity at the
-//                    point when the stage began (m/s; < 0 approaching)
-// Outputs: with r_a = p - x_a, r_b = p - x_b, the normal velocity there now
-//            v_n = (v_b + omega_b x r_b - v_a - omega_a x r_a) . n
-//          and the velocity the point should leave with
-//            v_target = -e approach   when approach < -kRestingSpeed (a collision bounces)
-//            v_target = 0             otherwise (a resting contact does not)
-//          the sum becomes max(sum.normal + (v_target - v_n) / w_n, 0) with the inverse effective mass
-//            w_n = 1/m_a + 1/m_b + n . ((I_a^-1 (r_a x n)) x r_a + (I_b^-1 (r_b x n)) x r_b)
-//          and the difference (new sum - old sum) n goes to the bodies at p through applyImpulseAtPoint().
-//          The sum is clamped, not the step: a later sweep may take back what an earlier one gave too
-//          much, but the contact never pulls. Two static bodies get nothing.
+// Inputs:  point  the contact point as prepareContactPoint() left it: p (m, world frame), lever arms
+//                 r_a, r_b (m), unit normal n (from a towards b), K_n (1/kg), target (m/s)
+//          a, b   v, omega (and what applyImpulseAtPoint() reads)
+//          sum    normal: lambda_n, the normal impulse this point has had in the earlier sweeps of
+//                 this step (N s, >= 0; last step's when warm started)
+// Outputs: with the relative velocity of the material points at p now and its normal part
+//            u = v_b + omega_b x r_b - v_a - omega_a x r_a,   u_n = u . n   (m/s)
+//          the sum becomes
+//            lambda_n' = max(lambda_n + (target - u_n) / K_n, 0)
+//          and the difference (lambda_n' - lambda_n) n goes to the bodies at p through
+//          applyImpulseAtPoint(). The sum is clamped, not the step: a later sweep may take back what
+//          an earlier one gave too much, but the contact never pulls. Where neither body can move
+//          (K_n = 0) nothing happens.
 #include <algorithm>
 
 #include "gpl/friction.h"
@@ -25,9 +21,8 @@
 
 namespace gpl {
 
-void applyNormalImpulse([[maybe_unused]] const Contact& contact, [[maybe_unused]] int point,
-                        [[maybe_unused]] const Mat3& invIa, [[maybe_unused]] const Mat3& invIb,
-                        [[maybe_unused]] Body& a, [[maybe_unused]] Body& b, [[maybe_unused]] PointImpulse& sum) {
+void applyNormalImpulse([[maybe_unused]] const ContactPoint& point, [[maybe_unused]] Body& a, [[maybe_unused]] Body& b,
+                        [[maybe_unused]] PointImpulse& sum) {
     kernelNotImplemented("applyNormalImpulse()");
 }
 

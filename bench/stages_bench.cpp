@@ -19,9 +19,9 @@
 //   BM_IntegrateRotation, BM_ApplyContactImpulse
 //                              one call of each rotation kernel (a tumbling box; a box on four points)
 //   BM_Rotation/N              the rotation stage, rotate(), on N tumbling boxes
-//   BM_NormalImpulse, BM_FrictionImpulse, BM_SolveContacts/N
-//                              worksheet 7: one sweep's normal and friction impulse at one point of
-//                              a box sliding on a rough floor; the friction stage on the heap
+//   BM_PrepareContactPoint, BM_NormalImpulse, BM_FrictionImpulse, BM_SolveContacts/N
+//                              worksheet 7: one point of a box sliding on a rough floor prepared,
+//                              and one sweep's normal and friction impulse there; the friction stage on the heap
 //                              (friction 0.5, no sums of a last step to start from)
 //   BM_StepFreeFall/N, BM_StepFreeFallIdleStages/N and BM_GravityAndIntegrationOnly/N
 //                              a whole step of a scene that requires gravity and integration; the
@@ -293,40 +293,63 @@ void BM_ApplyContactImpulse(benchmark::State& state) {
 }
 BENCHMARK(BM_ApplyContactImpulse);
 
-// One sweep's normal and friction impulse at one point of a box sliding onto a rough floor
-// (worksheet 7), with the sums of earlier sweeps at zero each time.
+// One point of a box sliding onto a rough floor (worksheet 7): the point prepared once per step,
+// and one sweep's normal and friction impulse there, with the sums of earlier sweeps at zero each time.
+struct SlidingPoint {
+    gpl::Body box = tumblingBox("box").at(Vec3(0.0, 0.3, 0.0)).moving(Vec3(1.0, -1.0, 0.0)).rough(0.6, 0.5);
+    gpl::Body floor = gpl::plane("floor", Vec3::UnitY()).rough(0.6, 0.5);
+    gpl::Contact contact;
+    gpl::Mat3 invIa, invIb;
+    SlidingPoint() {
+        contact.normal = -Vec3::UnitY();  // from the box into the floor
+        contact.pointCount = 1;
+        contact.points[0] = Vec3(0.15, 0.0, -0.4);
+        contact.staticFriction = 0.6;
+        contact.friction = 0.5;
+        invIa = gpl::worldInverseInertia(box);
+        invIb = gpl::worldInverseInertia(floor);
+    }
+    double approach() const { return gpl::normalVelocityAt(contact, box, floor, contact.points[0]); }
+};
+
+void BM_PrepareContactPoint(benchmark::State& state) {
+    const SlidingPoint s;
+    const double approach = s.approach();
+    for (auto _ : state) {
+        gpl::ContactPoint point = gpl::prepareContactPoint(s.contact, 0, s.box, s.floor, s.invIa, s.invIb, approach);
+        benchmark::DoNotOptimize(point);
+    }
+}
+BENCHMARK(BM_PrepareContactPoint);
+
 template <class Kernel>
 void pointImpulse(benchmark::State& state, Kernel kernel) {
-    const gpl::Body start = tumblingBox("box").at(Vec3(0.0, 0.3, 0.0)).moving(Vec3(1.0, -1.0, 0.0)).rough(0.6, 0.5);
-    gpl::Body floor = gpl::plane("floor", Vec3::UnitY()).rough(0.6, 0.5);
-    gpl::Contact c;
-    c.normal = -Vec3::UnitY();  // from the box into the floor
-    c.pointCount = 1;
-    c.points[0] = Vec3(0.15, 0.0, -0.4);
-    c.staticFriction = 0.6;
-    c.friction = 0.5;
-    const gpl::Mat3 invIa = gpl::worldInverseInertia(start), invIb = gpl::worldInverseInertia(floor);
-    gpl::Body b = start;
+    SlidingPoint s;
+    const gpl::ContactPoint point =
+        gpl::prepareContactPoint(s.contact, 0, s.box, s.floor, s.invIa, s.invIb, s.approach());
+    gpl::Body b = s.box;
     for (auto _ : state) {
-        b.velocity = start.velocity;
-        b.angularVelocity = start.angularVelocity;
+        b.velocity = s.box.velocity;
+        b.angularVelocity = s.box.angularVelocity;
         gpl::PointImpulse sum;
         sum.normal = 1.0;  // N s: what the friction kernel's cone is measured against
-        kernel(c, invIa, invIb, b, floor, sum);
+        kernel(point, b, s.floor, sum);
         benchmark::DoNotOptimize(b.velocity);
         benchmark::DoNotOptimize(sum);
     }
 }
 
 void BM_NormalImpulse(benchmark::State& state) {
-    pointImpulse(state, [](const gpl::Contact& c, const gpl::Mat3& ia, const gpl::Mat3& ib, gpl::Body& a, gpl::Body& b,
-                           gpl::PointImpulse& sum) { gpl::applyNormalImpulse(c, 0, ia, ib, a, b, sum); });
+    pointImpulse(state, [](const gpl::ContactPoint& point, gpl::Body& a, gpl::Body& b, gpl::PointImpulse& sum) {
+        gpl::applyNormalImpulse(point, a, b, sum);
+    });
 }
 BENCHMARK(BM_NormalImpulse);
 
 void BM_FrictionImpulse(benchmark::State& state) {
-    pointImpulse(state, [](const gpl::Contact& c, const gpl::Mat3& ia, const gpl::Mat3& ib, gpl::Body& a, gpl::Body& b,
-                           gpl::PointImpulse& sum) { gpl::applyFrictionImpulse(c, 0, ia, ib, a, b, sum); });
+    pointImpulse(state, [](const gpl::ContactPoint& point, gpl::Body& a, gpl::Body& b, gpl::PointImpulse& sum) {
+        gpl::applyFrictionImpulse(point, a, b, sum);
+    });
 }
 BENCHMARK(BM_FrictionImpulse);
 

@@ -1,6 +1,7 @@
-// The friction stage's sweeps (friction.h): a first pass that measures and warm starts every point,
-// then applyNormalImpulse() and applyFrictionImpulse() at every contact point, contactIterations()
-// times, with idle points skipped; a large stage in two Halves (halves.h), which come first here.
+// The friction stage's sweeps (friction.h): a first pass that measures, prepares and warm starts
+// every point, then applyNormalImpulse() and applyFrictionImpulse() at every contact point,
+// contactIterations() times, with idle points skipped; a large stage in two Halves (halves.h), which
+// come first here.
 //
 // Skipping: per body, a version that counts its changes; per point, the versions of its two bodies
 // when it was last solved, and whether that solve changed nothing. Such a point is skipped while
@@ -99,7 +100,11 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
                         int sweeps, bool skipIdle, SecondThread* second, const Start* start) {
     split(contacts, first, invI, bodies, sums);
     const bool cut = halves_.cutInTwo();
-    if (start != nullptr) warmStart(contacts, *start, bodies, second);
+    if (start != nullptr) {
+        warmStart(contacts, *start, bodies, second);
+    } else {
+        for (Part& part : parts_) measure(part, contacts, nullptr);
+    }
     const std::function<void()> left = [this, skipIdle] { solve(parts_[Halves::kLeft], skipIdle); };
     const std::function<void()> right = [this, skipIdle] { solve(parts_[Halves::kRight], skipIdle); };
     for (int sweep = 0; sweep < sweeps; ++sweep) {
@@ -115,16 +120,16 @@ void ContactSweeps::run(const std::vector<Contact>& contacts, const std::vector<
 
 void ContactSweeps::warmStart(const std::vector<Contact>& contacts, const Start& start, std::vector<Body>& bodies,
                               SecondThread* second) {
-    measure(parts_[Halves::kMiddle], contacts, start);  // its bodies are the halves': before their warm starts
+    measure(parts_[Halves::kMiddle], contacts, &start);  // its bodies are the halves': before their warm starts
     if (halves_.cutInTwo()) {
         Part& left = parts_[Halves::kLeft];
         Part& right = parts_[Halves::kRight];
         const std::function<void()> mine = [&] {
-            measure(left, contacts, start);
+            measure(left, contacts, &start);
             applyWarmStarts(left);
         };
         const std::function<void()> theirs = [&] {
-            measure(right, contacts, start);
+            measure(right, contacts, &start);
             applyWarmStarts(right);
         };
         bothHalves(mine, theirs, bodies, second);
@@ -143,17 +148,24 @@ void ContactSweeps::bothHalves(const std::function<void()>& left, const std::fun
     halves_.mergeStatics(bodies);
 }
 
-void ContactSweeps::measure(Part& part, const std::vector<Contact>& contacts, const Start& start) {
+void ContactSweeps::measure(Part& part, const std::vector<Contact>& contacts, const Start* start) {
     for (const Job& job : part.jobs) {
-        start(static_cast<std::size_t>(job.contact - contacts.data()), *job.a, *job.b, &part.sums[job.point]);
+        if (start != nullptr) {
+            (*start)(static_cast<std::size_t>(job.contact - contacts.data()), *job.a, *job.b, &part.sums[job.point]);
+        }
+        for (int k = 0; k < job.contact->pointCount; ++k) {
+            part.points[job.point + k] = prepareContactPoint(*job.contact, k, *job.a, *job.b, *job.invIa, *job.invIb,
+                                                             part.sums[job.point + k].approach);
+        }
     }
 }
 
 void ContactSweeps::applyWarmStarts(Part& part) {
     for (const Job& job : part.jobs) {
         for (int k = 0; k < job.contact->pointCount; ++k) {
-            const PointImpulse& s = part.sums[job.point + k];
-            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(*job.contact, k, *job.a, *job.b, s);
+            const std::size_t i = job.point + k;
+            const PointImpulse& s = part.sums[i];
+            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(part.points[i], *job.a, *job.b, s);
         }
     }
 }
@@ -181,6 +193,7 @@ void ContactSweeps::split(const std::vector<Contact>& contacts, const std::vecto
         part.sums.insert(part.sums.end(), from, from + con.pointCount);
     }
     for (Part& part : parts_) {
+        part.points.resize(part.sums.size());
         part.seenA.assign(part.sums.size(), 0);
         part.seenB.assign(part.sums.size(), 0);
         part.idle.assign(part.sums.size(), 0);
@@ -207,19 +220,18 @@ void ContactSweeps::solve(Part& part, bool skipIdle) {
         __builtin_prefetch(reinterpret_cast<const char*>(b) + 64, 1);
     }
     for (const Job& job : part.jobs) {
-        const Contact& con = *job.contact;
         Body& a = *job.a;
         Body& b = *job.b;
         std::uint32_t& versionA = *job.versionA;
         std::uint32_t& versionB = *job.versionB;
-        for (int k = 0; k < con.pointCount; ++k) {
+        for (int k = 0; k < job.contact->pointCount; ++k) {
             const std::size_t i = job.point + k;
             if (skipIdle && part.idle[i] && part.seenA[i] == versionA && part.seenB[i] == versionB) continue;
             PointImpulse& s = part.sums[i];
             const PointImpulse sumWas = s;
             const Vec3 va = a.velocity, wa = a.angularVelocity, vb = b.velocity, wb = b.angularVelocity;
-            applyNormalImpulse(con, k, *job.invIa, *job.invIb, a, b, s);
-            applyFrictionImpulse(con, k, *job.invIa, *job.invIb, a, b, s);
+            applyNormalImpulse(part.points[i], a, b, s);
+            applyFrictionImpulse(part.points[i], a, b, s);
             const bool aChanged = a.velocity != va || a.angularVelocity != wa;
             const bool bChanged = b.velocity != vb || b.angularVelocity != wb;
             if (aChanged) ++versionA;  // written only on a change: a store would claim the line

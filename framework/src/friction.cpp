@@ -1,9 +1,10 @@
 // Friction and resting contact in the engine (worksheet 7): sequential impulses with sums per
 // contact point, then positions that follow the velocities. Each step
 //   1. builds every body's world inverse inertia once (worldInverseInertia(); orientations do not
-//      change during the stage, and the kernels would otherwise rebuild R I^-1 R^T at every point
-//      of every sweep),
+//      change during the stage): the points' preparation and the position correction read it,
 //   2. measures each point's approach speed (what restitution answers) before anything changes it,
+//      and prepares the point once with prepareContactPoint(): lever arms, tangents, inverse
+//      effective masses and the normal velocity to reach, which the sweeps only read,
 //   3. warm starts: a point of the same pair of bodies as one of last step's, within
 //      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
 //      tangent plane), applied once with applyWarmStart(),
@@ -250,27 +251,31 @@ void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, c
 }
 
 void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps) {
-    // Every point's approach is measured before any warm start: an impulse at one point changes
-    // the velocities at the others.
+    // Every point's approach is measured, and every point prepared, before any warm start: an
+    // impulse at one point changes the velocities at the others.
+    points_.resize(first_.back());
     for (std::size_t c = 0; c < contacts.size(); ++c) {
-        start(contacts, c, bodies[contacts[c].a], bodies[contacts[c].b], &sums_[first_[c]]);
+        const Contact& con = contacts[c];
+        start(contacts, c, bodies[con.a], bodies[con.b], &sums_[first_[c]]);
+        for (int k = 0; k < con.pointCount; ++k) {
+            points_[first_[c] + k] = prepareContactPoint(con, k, bodies[con.a], bodies[con.b], invI_[con.a],
+                                                         invI_[con.b], sums_[first_[c] + k].approach);
+        }
     }
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& con = contacts[c];
-        for (int k = 0; k < con.pointCount; ++k) {
-            const PointImpulse& s = sums_[first_[c] + k];
-            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(con, k, bodies[con.a], bodies[con.b], s);
+        for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) {
+            const PointImpulse& s = sums_[i];
+            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(points_[i], bodies[con.a], bodies[con.b], s);
         }
     }
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         for (std::size_t c = 0; c < contacts.size(); ++c) {
-            const Contact& con = contacts[c];
-            Body& a = bodies[con.a];
-            Body& b = bodies[con.b];
-            for (int k = 0; k < con.pointCount; ++k) {
-                PointImpulse& s = sums_[first_[c] + k];
-                applyNormalImpulse(con, k, invI_[con.a], invI_[con.b], a, b, s);
-                applyFrictionImpulse(con, k, invI_[con.a], invI_[con.b], a, b, s);
+            Body& a = bodies[contacts[c].a];
+            Body& b = bodies[contacts[c].b];
+            for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) {
+                applyNormalImpulse(points_[i], a, b, sums_[i]);
+                applyFrictionImpulse(points_[i], a, b, sums_[i]);
             }
         }
     }

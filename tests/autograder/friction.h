@@ -1,6 +1,6 @@
-// What the worksheet-7 autograders share: a pair of turning bodies touching at one point, the
-// effective mass along a direction written in the tests' own way, and the scenes of resting contact
-// and friction built here (an incline, a floor) with the stages the friction stage needs.
+// What the worksheet-7 autograders share: a pair of turning bodies touching at one point, its point
+// prepared for the sweeps and the effective mass along a direction written in the tests' own way,
+// and the stages the friction stage needs.
 #pragma once
 
 #include <cmath>
@@ -33,24 +33,49 @@ inline double inverseMassAlong(const Body& a, const Body& b, const Vec3& p, cons
 /// Relative velocity of the material points of b and a at p (m/s).
 inline Vec3 relativeAt(const Body& a, const Body& b, const Vec3& p) { return pointVelocity(b, p) - pointVelocity(a, p); }
 
-/// Two bodies touching at one point: b's side of the contact along `normal`.
+/// Two bodies touching at one point: b's side of the contact along `normal`, the first tangent of the
+/// point's basis (unit, across the normal; the second is normal x tangent) and the sums so far.
 struct Touch {
     Body a, b;
     Contact contact;
+    Vec3 tangent = Vec3::UnitX();
     PointImpulse sum;
 };
 
+/// The touch's point as the sweeps read it, prepared in the tests' own way: lever arms, the touch's
+/// tangent basis, the inverse effective masses along n and the tangents, and the target of the
+/// contract: -e approach above kRestingSpeed, else 0.
+inline ContactPoint pointOf(const Touch& t) {
+    ContactPoint c;
+    c.p = t.contact.points[0];
+    c.ra = c.p - t.a.position;
+    c.rb = c.p - t.b.position;
+    c.n = t.contact.normal;
+    c.t1 = t.tangent;
+    c.t2 = c.n.cross(c.t1);
+    c.Kn = inverseMassAlong(t.a, t.b, c.p, c.n);
+    c.Kt1 = inverseMassAlong(t.a, t.b, c.p, c.t1);
+    c.Kt2 = inverseMassAlong(t.a, t.b, c.p, c.t2);
+    c.target = t.sum.approach < -kRestingSpeed ? -t.contact.restitution * t.sum.approach : 0.0;
+    c.staticFriction = t.contact.staticFriction;
+    c.friction = t.contact.friction;
+    return c;
+}
+
 inline std::string touchText(const Touch& t) {
-    return "\n  a: " + turning(t.a) + "\n  b: " + turning(t.b) + "\n  normal " + str(t.contact.normal) + ", point " +
-           str(t.contact.points[0]) + ", restitution " + formatNumber(t.contact.restitution) + ", mu_s " +
-           formatNumber(t.contact.staticFriction) + ", mu_d " + formatNumber(t.contact.friction) +
+    const ContactPoint c = pointOf(t);
+    return "\n  a: " + turning(t.a) + "\n  b: " + turning(t.b) + "\n  point p " + str(c.p) + ", n " + str(c.n) +
+           ", t1 " + str(c.t1) + ", t2 " + str(c.t2) + "\n  K_n " + formatNumber(c.Kn) + ", K_t1 " +
+           formatNumber(c.Kt1) + ", K_t2 " + formatNumber(c.Kt2) + " 1/kg, target " + formatNumber(c.target) +
+           " m/s, mu_s " + formatNumber(c.staticFriction) + ", mu_d " + formatNumber(c.friction) +
            "\n  sums before: normal " + formatNumber(t.sum.normal) + " N s, tangent " + str(t.sum.tangent) +
            " N s, approach " + formatNumber(t.sum.approach) + " m/s";
 }
 
-/// A random pair of turning bodies (a static in every fifth) touching at a random point near both.
+/// A random pair of turning bodies (a static in every fifth) touching at a random point near both,
+/// with a random tangent basis.
 inline Touch randomTouch(Random& rnd, int i) {
-    Touch t{turningBody(rnd, "a", i), turningBody(rnd, "b", i + 1), {}, {}};
+    Touch t{turningBody(rnd, "a", i), turningBody(rnd, "b", i + 1), {}, {}, {}};
     if (i % 5 == 3) t.a.makeStatic();
     t.contact.normal = rnd.direction();
     t.contact.pointCount = 1;
@@ -59,6 +84,27 @@ inline Touch randomTouch(Random& rnd, int i) {
     t.contact.restitution = rnd.uniform(0.0, 1.0);
     t.contact.friction = rnd.uniform(0.1, 0.8);
     t.contact.staticFriction = t.contact.friction * rnd.uniform(1.0, 1.5);
+    t.tangent = rnd.perpendicular(t.contact.normal);
+    return t;
+}
+
+/// Two balls touching (a static one in every fifth, a ball on a fixed ground): the point on the line
+/// of their centres, so that both lever arms lie along the normal and the inverse effective mass is
+/// the same along every tangent.
+inline Touch ballsTouching(Random& rnd, int i) {
+    Touch t = randomTouch(rnd, i);
+    const Vec3 n = t.contact.normal;
+    for (Body* ball : {&t.a, &t.b}) {
+        const std::string name = ball->name;
+        *ball = sphere(name, rnd.uniform(0.1, 1.0), rnd.uniform(0.1, 10.0))
+                    .rotated(rnd.rotation())
+                    .moving(rnd.inBox(5.0))
+                    .spinning(rnd.inBox(5.0));
+    }
+    if (i % 5 == 3) t.a.makeStatic();
+    t.a.position = rnd.inBox(5.0);
+    t.contact.points[0] = t.a.position + t.a.radius * n;
+    t.b.position = t.contact.points[0] + t.b.radius * n;
     return t;
 }
 

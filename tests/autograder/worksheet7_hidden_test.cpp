@@ -22,14 +22,44 @@ double velocityGap(const Body& x, const Body& y) {
 }
 double speeds(const Body& b) { return 1.0 + b.velocity.norm() + b.angularVelocity.norm(); }
 
-void both(Touch& t, const Mat3& invIa, const Mat3& invIb) {
-    applyNormalImpulse(t.contact, 0, invIa, invIb, t.a, t.b, t.sum);
-    applyFrictionImpulse(t.contact, 0, invIa, invIb, t.a, t.b, t.sum);
+// Both impulses at the touch's point, prepared in the tests' own way.
+void both(Touch& t) {
+    const ContactPoint point = checks::pointOf(t);
+    applyNormalImpulse(point, t.a, t.b, t.sum);
+    applyFrictionImpulse(point, t.a, t.b, t.sum);
+}
+
+// The touch's point as the student's prepareContactPoint() prepares it.
+ContactPoint prepared(const Touch& t) {
+    return prepareContactPoint(t.contact, 0, t.a, t.b, checks::inverseWorldInertia(t.a),
+                               checks::inverseWorldInertia(t.b), t.sum.approach);
+}
+
+GRADED_TEST(Worksheet7Hidden, PreparedPointSameForSwappedPair, 2,
+            "Swapping the two bodies (and reversing the normal) must not change what prepareContactPoint() finds: "
+            "the lever arms swap, K_n and the target stay, and so does K_t1 + K_t2 (the same for any tangent basis).",
+            grading::hidden()) {
+    Random rnd(790);
+    for (int i = 0; i < 300; ++i) {
+        Touch t = checks::randomTouch(rnd, i);
+        t.sum.approach = rnd.uniform(-3.0, 1.0);
+        Touch s = t;
+        std::swap(s.a, s.b);
+        s.contact.normal = -t.contact.normal;
+        const ContactPoint c = prepared(t), d = prepared(s);
+        ASSERT_GT(c.Kn, 0.0) << "K_n of a pair with a body that can move must be positive" << touchText(t);
+        const double tol = 1e-10 * (1.0 + c.Kn + c.Kt1 + c.Kt2);
+        ASSERT_LE((c.ra - d.rb).norm() + (c.rb - d.ra).norm(), 1e-10 * (1.0 + c.ra.norm() + c.rb.norm()))
+            << "the lever arms must swap" << touchText(t);
+        ASSERT_NEAR(c.Kn, d.Kn, tol) << "K_n changed with the pair swapped" << touchText(t);
+        ASSERT_NEAR(c.Kt1 + c.Kt2, d.Kt1 + d.Kt2, tol) << "K_t1 + K_t2 changed with the pair swapped" << touchText(t);
+        ASSERT_NEAR(c.target, d.target, 1e-12 * (1.0 + c.target)) << "the target changed" << touchText(t);
+    }
 }
 
 GRADED_TEST(Worksheet7Hidden, ImpulsesSameForSwappedPair, 2,
-            "Swapping the two bodies (and reversing the normal) must not change what the normal and friction kernels "
-            "do: both bodies end with the same velocities, and the sums are the same "
+            "Swapping the two bodies (and reversing the normal, the tangents along) must not change what the normal "
+            "and friction kernels do: both bodies end with the same velocities, and the sums are the same "
             "(the friction sum reversed, as it acts on the other body).",
             grading::hidden()) {
     Random rnd(791);
@@ -42,8 +72,8 @@ GRADED_TEST(Worksheet7Hidden, ImpulsesSameForSwappedPair, 2,
         std::swap(s.a, s.b);
         s.contact.normal = -t.contact.normal;
         const Touch before = t;
-        both(t, checks::inverseWorldInertia(t.a), checks::inverseWorldInertia(t.b));
-        both(s, checks::inverseWorldInertia(s.a), checks::inverseWorldInertia(s.b));
+        both(t);
+        both(s);
         changes += velocityGap(t.b, before.b) > 0.0;
         const double tol = 1e-10 * (speeds(before.a) + speeds(before.b));
         ASSERT_LE(velocityGap(t.a, s.b) + velocityGap(t.b, s.a), tol)
@@ -81,9 +111,10 @@ GRADED_TEST(Worksheet7Hidden, ImpulsesFollowRigidMotion, 2,
         m.b = carried(t.b, R, d);
         m.contact.normal = R * t.contact.normal;
         m.contact.points[0] = R * t.contact.points[0] + d;
+        m.tangent = R * t.tangent;
         const Touch before = t;
-        both(t, checks::inverseWorldInertia(t.a), checks::inverseWorldInertia(t.b));
-        both(m, checks::inverseWorldInertia(m.a), checks::inverseWorldInertia(m.b));
+        both(t);
+        both(m);
         changes += velocityGap(t.b, before.b) > 0.0;
         const double tol = 1e-10 * (speeds(before.a) + speeds(before.b));
         ASSERT_LE(velocityGap(carried(t.a, R, d), m.a) + velocityGap(carried(t.b, R, d), m.b), tol)

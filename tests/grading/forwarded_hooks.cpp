@@ -62,8 +62,8 @@ std::vector<std::string> hooksOfStep(const PhysicsEngine& e) {
         }
     }
     if (e.stageActive(Stage::Friction)) {
-        add({Call::ApplyNormalImpulse, Call::ApplyFrictionImpulse, Call::ApplyWarmStart, Call::ApplyImpulseAtPoint,
-             Call::WorldInverseInertia});
+        add({Call::PrepareContactPoint, Call::ApplyWarmStart, Call::ApplyNormalImpulse, Call::ApplyFrictionImpulse,
+             Call::ApplyImpulseAtPoint, Call::WorldInverseInertia});
     }
     return hooks;
 }
@@ -352,13 +352,9 @@ void applyContactImpulse(const Contact& contact, Body& a, Body& b) {
 // ---- Worksheet 7: friction ----------------------------------------------------------------------
 
 namespace {
-Writer pointInputs(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, const Body& a,
-                   const Body& b, const PointImpulse& sum) {
+Writer pointInputs(const ContactPoint& point, const Body& a, const Body& b, const PointImpulse& sum) {
     Writer w;
-    w.contact(contact);
-    w.i32(point);
-    w.mat3(invIa);
-    w.mat3(invIb);
+    w.contactPoint(point);
     w.body(a);
     w.body(b);
     w.pointImpulse(sum);
@@ -366,20 +362,33 @@ Writer pointInputs(const Contact& contact, int point, const Mat3& invIa, const M
 }
 }  // namespace
 
-void applyNormalImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
-                        PointImpulse& sum) {
-    twoBodies(Call::ApplyNormalImpulse, pointInputs(contact, point, invIa, invIb, a, b, sum), a, b, &sum);
+ContactPoint prepareContactPoint(const Contact& contact, int k, const Body& a, const Body& b, const Mat3& invIa,
+                                 const Mat3& invIb, double approach) {
+    Writer w;
+    w.contact(contact);
+    w.i32(k);
+    w.body(a);
+    w.body(b);
+    w.mat3(invIa);
+    w.mat3(invIb);
+    w.number(approach);
+    ContactPoint point;
+    grading::parseAnswer(Call::PrepareContactPoint, grading::request(Call::PrepareContactPoint, w.bytes()),
+                         [&](Reader& r) { point = r.contactPoint(); });
+    return point;
 }
 
-void applyFrictionImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
-                          PointImpulse& sum) {
-    twoBodies(Call::ApplyFrictionImpulse, pointInputs(contact, point, invIa, invIb, a, b, sum), a, b, &sum);
-}
-
-void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const PointImpulse& sum) {
+void applyWarmStart(const ContactPoint& point, Body& a, Body& b, const PointImpulse& sum) {
     PointImpulse unchanged = sum;
-    twoBodies(Call::ApplyWarmStart, pointInputs(contact, point, Mat3::Zero(), Mat3::Zero(), a, b, sum), a, b,
-              &unchanged);
+    twoBodies(Call::ApplyWarmStart, pointInputs(point, a, b, sum), a, b, &unchanged);
+}
+
+void applyNormalImpulse(const ContactPoint& point, Body& a, Body& b, PointImpulse& sum) {
+    twoBodies(Call::ApplyNormalImpulse, pointInputs(point, a, b, sum), a, b, &sum);
+}
+
+void applyFrictionImpulse(const ContactPoint& point, Body& a, Body& b, PointImpulse& sum) {
+    twoBodies(Call::ApplyFrictionImpulse, pointInputs(point, a, b, sum), a, b, &sum);
 }
 
 // ---- The student's own scenes -------------------------------------------------------------------

@@ -365,18 +365,27 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             out.body(b);
             return;
         }
+        case Call::PrepareContactPoint: {
+            const Contact c = in.contact();
+            const int k = in.i32();
+            const Body a = in.body(), b = in.body();
+            const Mat3 invIa = in.mat3(), invIb = in.mat3();
+            const double approach = in.number();
+            in.end();
+            if (k < 0 || k >= c.pointCount) throw ProtocolError("a contact point that the contact does not have");
+            out.contactPoint(prepareContactPoint(c, k, a, b, invIa, invIb, approach));
+            return;
+        }
         case Call::ApplyNormalImpulse:
         case Call::ApplyFrictionImpulse:
         case Call::ApplyWarmStart: {
-            const Contact c = in.contact();
-            const int point = in.i32();
-            const Mat3 invIa = in.mat3(), invIb = in.mat3();
+            const ContactPoint point = in.contactPoint();
             Body a = in.body(), b = in.body();
             PointImpulse sum = in.pointImpulse();
             in.end();
-            if (call == Call::ApplyNormalImpulse) applyNormalImpulse(c, point, invIa, invIb, a, b, sum);
-            if (call == Call::ApplyFrictionImpulse) applyFrictionImpulse(c, point, invIa, invIb, a, b, sum);
-            if (call == Call::ApplyWarmStart) applyWarmStart(c, point, a, b, sum);
+            if (call == Call::ApplyNormalImpulse) applyNormalImpulse(point, a, b, sum);
+            if (call == Call::ApplyFrictionImpulse) applyFrictionImpulse(point, a, b, sum);
+            if (call == Call::ApplyWarmStart) applyWarmStart(point, a, b, sum);
             out.body(a);
             out.body(b);
             out.pointImpulse(sum);

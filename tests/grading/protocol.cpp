@@ -27,6 +27,8 @@ const char* callName(Call call) {
         case Call::IntegrateRotation: return "integrateRotation()";
         case Call::ApplyImpulseAtPoint: return "applyImpulseAtPoint()";
         case Call::ApplyContactImpulse: return "applyContactImpulse()";
+        case Call::PrepareContactPoint:
+            return "prepareContactPoint()";
         case Call::ApplyNormalImpulse: return "applyNormalImpulse()";
         case Call::ApplyFrictionImpulse: return "applyFrictionImpulse()";
         case Call::ApplyWarmStart: return "applyWarmStart()";
@@ -102,6 +104,11 @@ void Writer::pointImpulse(const PointImpulse& p) {
     number(p.normal);
     vec3(p.tangent);
     number(p.approach);
+}
+
+void Writer::contactPoint(const ContactPoint& p) {
+    for (const Vec3* v : {&p.p, &p.ra, &p.rb, &p.n, &p.t1, &p.t2}) vec3(*v);
+    for (const double x : {p.Kn, p.Kt1, p.Kt2, p.target, p.staticFriction, p.friction}) number(x);
 }
 
 void Writer::vec3s(const std::vector<Vec3>& v) {
@@ -221,6 +228,13 @@ PointImpulse Reader::pointImpulse() {
     p.normal = number();
     p.tangent = vec3();
     p.approach = number();
+    return p;
+}
+
+ContactPoint Reader::contactPoint() {
+    ContactPoint p;
+    for (Vec3* v : {&p.p, &p.ra, &p.rb, &p.n, &p.t1, &p.t2}) *v = vec3();
+    for (double* x : {&p.Kn, &p.Kt1, &p.Kt2, &p.target, &p.staticFriction, &p.friction}) *x = number();
     return p;
 }
 

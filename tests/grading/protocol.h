@@ -48,6 +48,7 @@ enum class Call : std::uint8_t {
     IntegrateRotation,
     ApplyImpulseAtPoint,
     ApplyContactImpulse,
+    PrepareContactPoint,
     ApplyNormalImpulse,
     ApplyFrictionImpulse,
     ApplyWarmStart,
@@ -116,6 +117,7 @@ public:
     void contact(const Contact& c);
     void optionalContact(const std::optional<Contact>& c);
     void pointImpulse(const PointImpulse& p);
+    void contactPoint(const ContactPoint& p);
     void vec3s(const std::vector<Vec3>& v);
     void bodies(const std::vector<Body>& bodies);
     void contacts(const std::vector<Contact>& contacts);
@@ -153,6 +155,7 @@ public:
     Contact contact();
     std::optional<Contact> optionalContact();
     PointImpulse pointImpulse();
+    ContactPoint contactPoint();
     std::vector<Vec3> vec3s();
     std::vector<Body> bodies();
     std::vector<Contact> contacts();

@@ -208,10 +208,11 @@ public:
     void rotate();
 
     // ---- Framework stage (worksheet 7) -------------------------------------------------------------
-    /// Friction and resting contact (friction.cpp): measures every contact point's approach, warm
-    /// starts it with applyWarmStart() from last step's sums (same pair of bodies, nearest point within
-    /// kWarmStartDistance), then sweeps contactIterations() times over contacts() with
-    /// applyNormalImpulse() and applyFrictionImpulse() at every point; then every body ends the step
+    /// Friction and resting contact (friction.cpp): measures every contact point's approach and
+    /// prepares the point once with prepareContactPoint(), warm starts it with applyWarmStart() from
+    /// last step's sums (same pair of bodies, nearest point within kWarmStartDistance), then sweeps
+    /// contactIterations() times over contacts() with applyNormalImpulse() and
+    /// applyFrictionImpulse() at every prepared point; then every body ends the step
     /// where its new velocity takes it (moved by h times the change of its velocity, turned by h times
     /// the change of its angular velocity), and overlap deeper than kContactSlop is reduced by split
     /// impulses, in positions only (split_impulses.h). It keeps the sums for the next step. That

@@ -1,12 +1,14 @@
-// Friction and resting contact (worksheet 7): pure kernels for the impulses at one contact point
-// that a sequence of sweeps sums up, and the per-point sums the framework keeps between sweeps and
-// from one step to the next.
+// Friction and resting contact (worksheet 7): pure kernels for one contact point, prepared once per
+// step, and the impulses there that a sequence of sweeps sums up; the per-point sums the framework
+// keeps between sweeps and from one step to the next.
 //
 // Student hooks (bodies in assignments/, reference bodies in solutions/):
+//   prepareContactPoint()   the point prepared once per step: lever arms, tangents, inverse effective
+//                           masses along the normal and the tangents, the normal velocity to reach
+//   applyWarmStart()        last step's sums applied again before the first sweep
 //   applyNormalImpulse()    the normal impulse, summed over the sweeps and the sum kept >= 0
 //   applyFrictionImpulse()  the friction impulse, summed likewise, kept in the Coulomb cone
-//   applyWarmStart()        last step's sums applied again before the first sweep
-// All three act on the bodies through applyImpulseAtPoint() (worksheet 6).
+// The last three act on the bodies through applyImpulseAtPoint() (worksheet 6).
 // Framework (friction.cpp): the friction stage, FrictionStage (PhysicsEngine::solveContacts() runs it),
 // with a plain loop of sweeps for a small stage and ContactSweeps (contact_sweeps.cpp) for a large one;
 // a scene may choose another ContactSolver in place of these sweeps (baumgarte.h, soft_step.h).
@@ -80,21 +82,39 @@ struct PointImpulse {
     double approach = 0.0;
 };
 
-/// Student hook (worksheet 7), solutions/normal_impulse.cpp: one sweep's normal impulse at
-/// contact.points[point]; invIa, invIb are worldInverseInertia() of a and b.
-void applyNormalImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
-                        PointImpulse& sum);
-/// Student hook (worksheet 7), solutions/friction_impulse.cpp: one sweep's friction impulse at
-/// contact.points[point]; invIa, invIb as above.
-void applyFrictionImpulse(const Contact& contact, int point, const Mat3& invIa, const Mat3& invIb, Body& a, Body& b,
-                          PointImpulse& sum);
+/// A contact point as the sweeps read it, prepared once per step by prepareContactPoint(): what stays
+/// the same while the sweeps change the velocities.
+struct ContactPoint {
+    Vec3 p = Vec3::Zero();        ///< the point (m, world frame)
+    Vec3 ra = Vec3::Zero();       ///< lever arm of body a, p - x_a (m)
+    Vec3 rb = Vec3::Zero();       ///< lever arm of body b, p - x_b (m)
+    Vec3 n = Vec3::UnitY();       ///< unit normal, from a towards b
+    Vec3 t1 = Vec3::UnitZ();      ///< unit tangent (tangentBasis(n))
+    Vec3 t2 = Vec3::UnitX();      ///< unit tangent n x t1: with t1 and n an orthonormal basis
+    double Kn = 0.0;              ///< inverse effective mass along n, K(n) (1/kg)
+    double Kt1 = 0.0, Kt2 = 0.0;  ///< inverse effective masses along t1 and t2 (1/kg)
+    double target = 0.0;          ///< normal velocity the point is to leave with (m/s, >= 0)
+    double staticFriction = 0.0;  ///< the pair's mu_s
+    double friction = 0.0;        ///< the pair's mu_d (<= mu_s)
+};
+
+/// Student hook (worksheet 7), solutions/prepare_contact_point.cpp: contact.points[k] prepared for
+/// the sweeps; invIa, invIb are worldInverseInertia() of a and b, approach the normal velocity at
+/// the point when the stage began (m/s, < 0 approaching).
+ContactPoint prepareContactPoint(const Contact& contact, int k, const Body& a, const Body& b, const Mat3& invIa,
+                                 const Mat3& invIb, double approach);
 /// Student hook (worksheet 7), solutions/warm_start.cpp: the sums of last step at the point, applied
 /// to the bodies again.
-void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const PointImpulse& sum);
+void applyWarmStart(const ContactPoint& point, Body& a, Body& b, const PointImpulse& sum);
+/// Student hook (worksheet 7), solutions/normal_impulse.cpp: one sweep's normal impulse at the point.
+void applyNormalImpulse(const ContactPoint& point, Body& a, Body& b, PointImpulse& sum);
+/// Student hook (worksheet 7), solutions/friction_impulse.cpp: one sweep's friction impulse at the point.
+void applyFrictionImpulse(const ContactPoint& point, Body& a, Body& b, PointImpulse& sum);
 
-/// Framework (contact_sweeps.cpp): `sweeps` sweeps of applyNormalImpulse() then
-/// applyFrictionImpulse() over every point of `contacts`; sums[first[c] + k] is point k of contact c,
-/// invI[i] worldInverseInertia() of bodies[i]. Below kSplitFrom points, in the order of `contacts`;
+/// Framework (contact_sweeps.cpp): every point of `contacts` prepared once with
+/// prepareContactPoint(), then `sweeps` sweeps of applyNormalImpulse() then applyFrictionImpulse()
+/// over every point; sums[first[c] + k] is point k of contact c, invI[i] worldInverseInertia() of
+/// bodies[i]. Below kSplitFrom points, in the order of `contacts`;
 /// from there on, each sweep solves the two Halves of the contacts, each in order, and then the
 /// contacts across the cut. With `second`, the two halves are solved at once; the result is the same
 /// to the bit. With skipIdle (what the friction stage does), a point whose last solve changed neither
@@ -102,9 +122,10 @@ void applyWarmStart(const Contact& contact, int point, Body& a, Body& b, const P
 /// again: the kernels are pure, so that solve would change nothing. The state is the same, to the
 /// bit, as without.
 ///
-/// With `start` (the friction stage), a first pass before the sweeps starts every point: start()
-/// sets the sums of contact c's points (their approach, and last step's sums to start from) from
-/// its bodies, and each point whose sums are not zero is then warm started with applyWarmStart().
+/// A first pass before the sweeps prepares every point from the approach its sums hold. With `start`
+/// (the friction stage), that pass starts every point first: start() sets the sums of contact c's
+/// points (their approach, and last step's sums to start from) from its bodies; each point is then
+/// prepared, and each whose sums are not zero warm started with applyWarmStart().
 /// Every approach is measured before any warm start, as an impulse at one point changes the
 /// others': the middle's first, then each half measures its own and warm starts them (its impulses
 /// reach no body of the other half), then the middle is warm started. With two halves, the halves
@@ -139,6 +160,7 @@ private:
     struct alignas(64) Part {  // on cache lines of its own: the two threads write their parts
         std::vector<Job> jobs;
         std::vector<PointImpulse> sums;           ///< per point, copied in and out of the stage's
+        std::vector<ContactPoint> points;         ///< per point, prepared by the first pass
         std::vector<std::uint32_t> seenA, seenB;  ///< per point: its bodies' versions at its last solve
         std::vector<char> idle;                   ///< per point: its last solve changed nothing
         /// Its bodies that another part writes too (of pairs across the cut), asked for before each
@@ -156,7 +178,8 @@ private:
     /// The first pass with `start` (see the class).
     void warmStart(const std::vector<Contact>& contacts, const Start& start, std::vector<Body>& bodies,
                    SecondThread* second);
-    static void measure(Part& part, const std::vector<Contact>& contacts, const Start& start);
+    /// The part's points started (with `start`) and prepared.
+    static void measure(Part& part, const std::vector<Contact>& contacts, const Start* start);
     static void applyWarmStarts(Part& part);
     /// The two halves' work, at once with `second` (else left first); then what they did to their
     /// copies of the static bodies reaches the bodies.
@@ -222,6 +245,7 @@ private:
     std::vector<std::pair<Vec3, Vec3>> before_;  ///< per body: v and omega when the stage began
     std::vector<std::size_t> first_;         ///< per contact: its first point's index in sums_
     std::vector<PointImpulse> sums_;         ///< per contact point of this step
+    std::vector<ContactPoint> points_;       ///< per contact point: prepared (a small stage's sweeps)
     std::vector<double> depths_;             ///< per contact point: its overlap (m)
     std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
     ContactSweeps sweeps_;                   ///< the sweeps of a large stage, in halves
@@ -235,7 +259,8 @@ private:
     /// kWarmStartDistance of a point of this step, up to kMaxContactPoints a contact; and a contact
     /// of such points for a pair the kernels report no more.
     void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts);
-    /// The first pass and the sweeps of a small stage: the plain loop (see step()).
+    /// The first pass (start, prepare, warm start) and the sweeps of a small stage: the plain loop
+    /// (see step()).
     void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps);
     /// Last step's sums of contact c's points, and their approach now.
     void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums) const;
