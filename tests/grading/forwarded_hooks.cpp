@@ -372,10 +372,10 @@ ContactPoint prepareContactPoint(const Contact& contact, int k, const Body& a, c
     w.mat3(invIa);
     w.mat3(invIb);
     w.number(approach);
-    ContactPoint point;
+    ContactPoint prepared;
     grading::parseAnswer(Call::PrepareContactPoint, grading::request(Call::PrepareContactPoint, w.bytes()),
-                         [&](Reader& r) { point = r.contactPoint(); });
-    return point;
+                         [&](Reader& r) { prepared = r.contactPoint(); });
+    return prepared;
 }
 
 void applyWarmStart(const ContactPoint& point, Body& a, Body& b, const PointImpulse& sum) {
