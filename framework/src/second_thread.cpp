@@ -28,15 +28,19 @@ constexpr std::chrono::microseconds kWokenSpin{20000};  // after wake(): a stage
 // the half would have added on one thread; time without a core not counted) less the time the caller
 // waited for it once its own half was done; or -kClaimCost when the caller found the other half not
 // begun and ran it itself (the second thread had no core; its spinning and the hand-over were for
-// nothing). The gains add up, at most to kCredit; once they fall below -kTolerance the second
+// nothing). Less, either way, the time the caller itself was without a core during the hand-over:
+// the machine then has fewer free cores than this program's threads, and the second thread's
+// spinning takes a core's time from the caller or from another program. The gains add up, at most to kCredit; once they fall below -kTolerance the second
 // thread has cost more than it gained, and the caller runs both halves itself, the second thread
-// asleep, for kFirstAlone. Then it tries two threads again; each try that fails doubles the time
-// alone, up to kLongestAlone, and a try whose gains reach kCredit brings it back to kFirstAlone.
+// asleep, for the next kFirstAlone hand-overs. Then it tries two threads again; each try that fails
+// doubles the hand-overs alone, up to kLongestAlone, and a try whose gains reach kCredit brings them
+// back to kFirstAlone. Hand-overs, not seconds: the time between an engine's steps (its program
+// doing something else) does not end a stretch alone.
 constexpr std::chrono::microseconds kClaimCost{50};
 constexpr std::chrono::microseconds kCredit{2000};
 constexpr std::chrono::microseconds kTolerance{200};
-constexpr std::chrono::milliseconds kFirstAlone{50};
-constexpr std::chrono::milliseconds kLongestAlone{2000};
+constexpr std::uint64_t kFirstAlone = 32;
+constexpr std::uint64_t kLongestAlone = 4096;
 
 // The time this thread has run on a core.
 std::chrono::nanoseconds onCore() {
@@ -87,26 +91,25 @@ struct SecondThread::Shared {
 
     // The caller's account of what the second thread gives now (only the caller reads and writes it).
     using Clock = std::chrono::steady_clock;
-    Clock::time_point aloneUntil{};  ///< until then, the caller runs both halves itself
-    Clock::duration nextAlone = kFirstAlone;
+    std::uint64_t aloneLeft = 0;     ///< hand-overs the caller is still to run alone
+    std::uint64_t nextAlone = kFirstAlone;
     Clock::duration gained{0};       ///< since the last time alone, at most kCredit
 
-    /// True while the caller is to run both halves itself.
-    bool alone() {
-        if (aloneUntil == Clock::time_point{}) return false;
-        if (Clock::now() < aloneUntil) return true;
-        aloneUntil = Clock::time_point{};  // time to try two threads again
-        return false;
+    /// True while the caller is to run both halves itself; counts `hand-overs` of them.
+    bool alone(std::uint64_t handOvers) {
+        if (aloneLeft == 0) return false;
+        aloneLeft -= std::min(aloneLeft, handOvers);
+        return true;
     }
     /// Books one hand-over's gain; the caller goes alone once the second thread has cost more than it
     /// gained.
-    void book(Clock::duration gain, Clock::time_point now) {
+    void book(Clock::duration gain) {
         gained = std::min<Clock::duration>(gained + gain, kCredit);
         if (gained == Clock::duration(kCredit)) nextAlone = kFirstAlone;
         if (gained >= -Clock::duration(kTolerance)) return;
         gained = Clock::duration(0);
-        aloneUntil = now + nextAlone;
-        nextAlone = std::min<Clock::duration>(2 * nextAlone, kLongestAlone);
+        aloneLeft = nextAlone;
+        nextAlone = std::min(2 * nextAlone, kLongestAlone);
     }
 
     ~Shared() {
@@ -199,18 +202,20 @@ SecondThread::~SecondThread() { delete shared_; }
 SecondThread::SecondThread(const SecondThread&) : shared_(new Shared) {}
 SecondThread& SecondThread::operator=(const SecondThread&) { return *this; }
 
-bool SecondThread::helps() { return !shared_->alone() && shared_->started(); }
+bool SecondThread::helps() { return !shared_->alone(1) && shared_->started(); }
 
 void SecondThread::wake() {
-    if (!shared_->alone() && shared_->started()) shared_->post(nullptr);
+    if (!shared_->alone(0) && shared_->started()) shared_->post(nullptr);
 }
 
 void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs) {
-    if (!use || shared_->alone() || !shared_->started()) {
+    if (!use || shared_->alone(1) || !shared_->started()) {
         mine();
         theirs();
         return;
     }
+    const auto posted = Shared::Clock::now();
+    const std::chrono::nanoseconds callerOnCore = onCore();
     const std::uint64_t number = shared_->post(&theirs);
     std::exception_ptr mineFailed, theirsFailed;
     try {
@@ -232,9 +237,11 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
     }
     shared_->finish();
     const auto allDone = Shared::Clock::now();
-    const Shared::Clock::duration gain = claimed ? -Shared::Clock::duration(kClaimCost)
-                                                 : shared_->theirsOnCore - (allDone - mineDone);
-    shared_->book(gain, allDone);
+    const Shared::Clock::duration offCore = (allDone - posted) - (onCore() - callerOnCore);
+    const Shared::Clock::duration gain =
+        (claimed ? -Shared::Clock::duration(kClaimCost) : shared_->theirsOnCore - (allDone - mineDone)) -
+        std::max(offCore, Shared::Clock::duration(0));
+    shared_->book(gain);
     if (mineFailed) std::rethrow_exception(mineFailed);
     if (theirsFailed) std::rethrow_exception(theirsFailed);
     if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));
