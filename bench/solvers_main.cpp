@@ -46,14 +46,14 @@ std::vector<SolverConfig> solvers() {
 }
 const std::vector<SolverConfig> kSolvers = solvers();
 
-// The scenes run by default: every stacking scene, then worksheet 7's stack and worksheet 6's
-// frictionless corner drop.
+// The scenes run by default: every stacking scene, then worksheet 7's stack and its corner landing
+// (worksheet 6's corner drop with friction).
 std::vector<std::string> defaultScenes() {
     gpl::SceneRegistry stacking;
     gpl::addStackingScenes(stacking);
     std::vector<std::string> names;
     for (const gpl::Scene& s : stacking.all()) names.push_back(s.name);
-    names.insert(names.end(), {"box-stack", "corner-drop"});
+    names.insert(names.end(), {"box-stack", "corner-landing"});
     return names;
 }
 
@@ -62,7 +62,7 @@ std::vector<std::string> defaultScenes() {
 enum class Expect { Stand, Fall, Settle };
 Expect expected(const std::string& scene) {
     if (scene == "sphere-pyramid-slippery" || scene == "sphere-tetrahedron-slippery") return Expect::Fall;
-    for (const char* moving : {"friction-ramp", "overlap-recovery", "dominoes", "corner-drop"}) {
+    for (const char* moving : {"friction-ramp", "overlap-recovery", "dominoes", "corner-landing"}) {
         if (scene == moving) return Expect::Settle;
     }
     return Expect::Stand;
@@ -209,7 +209,7 @@ int main(int argc, char** argv) {
     std::string out = "build/solvers";
     bool skipBullet = false;
     app.add_option("--seconds", seconds, "simulated time of each run (default 10)")->check(gpl::cli::positiveSeconds());
-    app.add_option("--scenes", sceneList, "scenes to run, separated by commas (default: the stacking scenes, box-stack, corner-drop)")
+    app.add_option("--scenes", sceneList, "scenes to run, separated by commas (default: the stacking scenes, box-stack, corner-landing)")
         ->check(gpl::cli::expects("scene names separated by commas (./lab run --list lists them)", [](const std::string& text) {
             const std::vector<std::string> names = split(text);
             if (names.empty()) return false;
@@ -245,7 +245,7 @@ int main(int argc, char** argv) {
                   << "stands: every point of every body slower than " << kRestSpeed * 1e3
                   << " mm/s over the last second and every body within " << kStandDrift * 100
                   << " cm of its start (fell: at rest elsewhere; moves: not at rest);\n"
-                  << "scenes meant to move and settle (ramp, overlap recovery, dominoes, corner drop): rests or moves;"
+                  << "scenes meant to move and settle (ramp, overlap recovery, dominoes, corner landing): rests or moves;"
                   << " the slippery pyramids are meant to fall\n"
                   << "top drift: the body highest at the start, its distance from there at the end; speed: the fastest point"
                   << " over the last second (peak: over the run); dE: total energy end - start; overlap: the deepest over the last"

@@ -51,6 +51,16 @@ void boxStack(PhysicsEngine& e) {
     }
 }
 
+// Worksheet 6's corner drop with friction (mu = 0.5) and resting contact: the box of half extents
+// 0.2 x 0.3 x 0.4 m, tilted about x and z, lands on a corner with restitution 0.5, tumbles and comes
+// to rest on a face. Without the friction stage it rocks for ever: each step the impulse of
+// worksheet 4 bounces a resting corner by e g h, which this stage's restitution leaves to impacts.
+void cornerLanding(PhysicsEngine& e) {
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    const Quat tilt = Quat(Eigen::AngleAxisd(0.5, Vec3::UnitX())) * Quat(Eigen::AngleAxisd(0.4, Vec3::UnitZ()));
+    e.add(box("box", {0.2, 0.3, 0.4}, 2.0).at({0.0, 1.5, 0.0}).rotated(tilt).bouncy(0.5));
+}
+
 }  // namespace
 
 void addWorksheet7Scenes(SceneRegistry& r) {
@@ -63,6 +73,9 @@ void addWorksheet7Scenes(SceneRegistry& r) {
            kFrictionStages, kDefaultTimeStep, rollingBall, Integrator::SemiImplicitEuler, Vec3(-0.3, 0.5, 0.0), 10.0, 2.5});
     r.add({"box-stack", "", "Five boxes stacked on the floor: they rest still, without drift or jitter.", 7, kFrictionStages,
            kDefaultTimeStep, boxStack, Integrator::SemiImplicitEuler, Vec3(0.0, 1.5, 0.0), 8.0, 10.0});
+    r.add({"corner-landing", "", "Worksheet 6's corner drop with friction: the box tumbles and comes to rest on a face.", 7,
+           kFrictionStages, kDefaultTimeStep, cornerLanding, Integrator::SemiImplicitEuler, Vec3(0.0, 1.1, 0.0), 5.5,
+           4.0});
 }
 
 }  // namespace gpl

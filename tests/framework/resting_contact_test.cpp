@@ -121,6 +121,29 @@ TEST(RestingContact, RestingBoxesNeitherSinkNorFloatByAMillimetre) {
     }
 }
 
+TEST(RestingContact, BoxDroppedOnACornerComesToRestOnAFace) {
+    // Worksheet 6's corner drop with friction and the friction stage: within 5 s it has landed,
+    // tumbled and stopped; over the next 5 s no point moves at 1 mm/s, its energy never rises, and
+    // it lies on a face: its centre one half extent above the floor, within 1 mm (overlapping or
+    // floating by less).
+    PhysicsEngine e;
+    load(e, scenes().find("corner-landing"));
+    for (int s = 0; s < 500; ++s) e.step();
+    double fastest = 0.0, rise = 0.0;
+    const double begin = e.totalEnergy();
+    for (int s = 0; s < 500; ++s) {
+        e.step();
+        fastest = std::max(fastest, fastestPoint(e.body("box")));
+        rise = std::max(rise, e.totalEnergy() - begin);
+    }
+    EXPECT_LT(fastest, 1e-3) << "m/s";
+    EXPECT_LT(rise, 1e-8 * begin) << "J";  // at rest nothing feeds energy in (relative to the total)
+    const Body& box = e.body("box");
+    double nearest = 1e300;  // m, the height's distance from the nearest half extent
+    for (int k = 0; k < 3; ++k) nearest = std::min(nearest, std::abs(box.position.y() - box.halfExtents[k]));
+    EXPECT_LT(nearest, 1e-3) << "centre at " << box.position.y() << " m";
+}
+
 TEST(RestingContact, PyramidOfTenRowsStandsAMinute) { expectStands("pyramid-10", 60.0); }
 
 TEST(RestingContact, ColumnOfTenCubesStandsAMinuteWithTheSoftStep) {

@@ -70,7 +70,7 @@ TEST(Scenes, LaterCourseScenesHaveNoKey) {
                  std::invalid_argument);
     EXPECT_EQ(r.find("two").name, "two");
     EXPECT_THROW(r.find(""), std::invalid_argument);  // an empty key names no scene
-    for (const char* name : {"incline", "rolling-ball", "box-stack"}) {
+    for (const char* name : {"incline", "rolling-ball", "box-stack", "corner-landing"}) {
         const Scene& s = scenes().find(name);
         EXPECT_EQ(s.worksheet, 7) << name;
         EXPECT_TRUE(s.stages.contains(Stage::Friction)) << name;
