@@ -24,18 +24,23 @@ namespace {
 constexpr std::chrono::microseconds kSpin{500};         // after a hand-over
 constexpr std::chrono::microseconds kWokenSpin{20000};  // after wake(): a stage's preparations
 
-// What the second thread gains, hand-over by hand-over: the time its half took it on its core (what
-// the half would have added on one thread; time without a core not counted) less the time the caller
-// waited for it once its own half was done; or -kClaimCost when the caller found the other half not
-// begun and ran it itself (the second thread had no core; its spinning and the hand-over were for
+// What the second thread gains, hand-over by hand-over: what its half would have added on one thread
+// less the time the caller waited for it once its own half was done. What the half would have added
+// is the time it took the second thread on its core (time without a core not counted), but no more
+// than the caller's own half took on its core: the halves are cut to equal work, and a half that
+// takes the second thread longer (its core's caches shared with another program) gains no more.
+// When the caller found the other half not begun and ran it itself, the hand-over gains
+// -kClaimCost instead (the second thread had no core; its spinning and the hand-over were for
 // nothing). Less, either way, the time the caller itself was without a core during the hand-over:
 // the machine then has fewer free cores than this program's threads, and the second thread's
-// spinning takes a core's time from the caller or from another program. The gains add up, at most to kCredit; once they fall below -kTolerance the second
-// thread has cost more than it gained, and the caller runs both halves itself, the second thread
-// asleep, for the next kFirstAlone hand-overs. Then it tries two threads again; each try that fails
-// doubles the hand-overs alone, up to kLongestAlone, and a try whose gains reach kCredit brings them
-// back to kFirstAlone. Hand-overs, not seconds: the time between an engine's steps (its program
-// doing something else) does not end a stretch alone.
+// spinning takes a core's time from the caller or from another program.
+//
+// The gains add up, at most to kCredit; once they fall below -kTolerance the second thread has
+// cost more than it gained, and the caller runs both halves itself, the second thread asleep, for
+// the next kFirstAlone hand-overs. Then it tries two threads again; each try that fails doubles the
+// hand-overs alone, up to kLongestAlone, and a try whose gains reach kCredit brings them back to
+// kFirstAlone. Hand-overs, not seconds: the time between an engine's steps (its program doing
+// something else) does not end a stretch alone.
 constexpr std::chrono::microseconds kClaimCost{50};
 constexpr std::chrono::microseconds kCredit{2000};
 constexpr std::chrono::microseconds kTolerance{200};
@@ -224,6 +229,7 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         mineFailed = std::current_exception();
     }
     const auto mineDone = Shared::Clock::now();
+    const std::chrono::nanoseconds mineOnCore = onCore() - callerOnCore;
     // Their half not begun yet (the second thread may be waiting for a core that another program
     // holds): this thread runs it, and never waits for a core that is not free.
     const bool claimed = shared_->claim(number);
@@ -239,7 +245,8 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
     const auto allDone = Shared::Clock::now();
     const Shared::Clock::duration offCore = (allDone - posted) - (onCore() - callerOnCore);
     const Shared::Clock::duration gain =
-        (claimed ? -Shared::Clock::duration(kClaimCost) : shared_->theirsOnCore - (allDone - mineDone)) -
+        (claimed ? -Shared::Clock::duration(kClaimCost)
+                 : std::min(shared_->theirsOnCore, mineOnCore) - (allDone - mineDone)) -
         std::max(offCore, Shared::Clock::duration(0));
     shared_->book(gain);
     if (mineFailed) std::rethrow_exception(mineFailed);
