@@ -267,7 +267,7 @@ private:
     int interpenetrationIterations_ = 0;  ///< 0: as many as contactIterations_
     BroadPhase broadPhase_;
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
-    SecondThread second_;                  ///< the broad phase's and the friction stage's second thread
+    SecondThread second_;                  ///< the second thread of the broad phase, collision detection and the friction stage
     FrictionStage friction_;               ///< the friction stage's memory and buffers (friction.h)
     ContactSolver contactSolver_ = ContactSolver::SequentialImpulses;
 
