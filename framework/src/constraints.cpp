@@ -1,4 +1,5 @@
 #include "gpl/constraints.h"
+#include "gpl/soft_constraints.h"
 
 namespace gpl {
 
@@ -28,6 +29,14 @@ void separateSpheres(Vec3& xa, Vec3& xb, double ra, double rb, double wa, double
     const Vec3 push = (contact - distance) / (distance * (wa + wb)) * d;
     xa += wa * push;
     xb -= wb * push;
+}
+
+}  // namespace gpl
+
+namespace gpl {
+
+double tetrahedronVolume(const std::array<Vec3, 4>& x) {
+    return (x[1] - x[0]).cross(x[2] - x[0]).dot(x[3] - x[0]) / 6.0;
 }
 
 }  // namespace gpl
