@@ -45,6 +45,18 @@ void PhysicsEngine::simulationTimestep() {
 
     // Constraints: move positions onto rods, chains and the container, and spheres apart (worksheet 2).
     if (stageActive(Stage::Constraints) || stageActive(Stage::ParticleCollisions)) projectConstraints();
+
+    // Soft bodies, predict: velocities by gravity and wind, predicted positions p = x + h v (worksheet 8).
+    if (stageActive(Stage::SoftPredict)) predictParticles();
+
+    // Soft contacts: which particles lie near the rigid bodies and near each other, once per step.
+    if (stageActive(Stage::SoftContacts)) findParticleContacts();
+
+    // Project: sweeps of the distance and volume constraints, then the contacts, over the predictions.
+    if (stageActive(Stage::SoftProject)) projectParticles();
+
+    // Soft velocities: v = (p - x) / h, and the corrected predictions become the positions.
+    if (stageActive(Stage::SoftVelocities)) updateParticleVelocities();
 }
 
 }  // namespace gpl

@@ -58,6 +58,12 @@ void PhysicsEngine::restore(const State& s) {
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
     friction_.forget();
+    soft_.x = s.particlePositions;
+    soft_.v = s.particleVelocities;
+    soft_.w = s.particleInverseMasses;
+    soft_.p = s.particlePositions;
+    soft_.contacts.clear();
+    soft_.selfPairs.clear();
 }
 
 void PhysicsEngine::clear() {
@@ -70,6 +76,7 @@ void PhysicsEngine::clear() {
     container_.reset();
     previousPositions_.clear();
     friction_.forget();
+    soft_.clear();
     time_ = 0.0;
     steps_ = 0;
 }
@@ -250,6 +257,13 @@ void PhysicsEngine::endStep() {
                                   " (t = " + formatNumber(time_) + " s): check integrator()");
         }
     }
+    const std::size_t i = soft_.firstNonFinite();
+    if (i < soft_.x.size()) {
+        const SoftMesh& mesh = soft_.meshes[soft_.meshOf[i]];
+        throw SimulationError("particle " + std::to_string(i - mesh.first) + " of '" + mesh.name +
+                              "' is no longer finite after step " + std::to_string(steps_) + " (t = " +
+                              formatNumber(time_) + " s): check solveDistanceConstraint() and solveVolumeConstraint()");
+    }
 }
 
 void PhysicsEngine::updateConstantAcceleration() {
@@ -345,6 +359,17 @@ void PhysicsEngine::projectConstraints() {
     }
 }
 
+void PhysicsEngine::predictParticles() { soft_.predict(timeStep_, gravity_, time_); }
+
+void PhysicsEngine::findParticleContacts() { soft_.findContacts(bodies_, timeStep_); }
+
+void PhysicsEngine::projectParticles() {
+    soft_.project(timeStep_, constraintIterations_, bodies_);
+    recordOpenKernels();
+}
+
+void PhysicsEngine::updateParticleVelocities() { soft_.updateVelocities(timeStep_); }
+
 void PhysicsEngine::recordOpenKernels() {
     for (const std::string& hook : kernelsNotImplemented()) missing_.insert(hook);
 }
@@ -360,6 +385,7 @@ void PhysicsEngine::notImplemented(const std::string& hook) {
 double PhysicsEngine::kineticEnergy() const {
     double e = 0.0;
     for (const Body& b : bodies_) e += gpl::kineticEnergy(b);
+    if (!soft_.empty()) e += soft_.kineticEnergy();
     return e;
 }
 
@@ -368,7 +394,12 @@ double PhysicsEngine::potentialEnergy() const {
     if (stageActive(Stage::ConstantAcceleration)) {
         for (const Body& b : bodies_) e += gpl::potentialEnergy(b, gravity_);
     }
-    return plusSpringEnergies(e);
+    return plusSoftEnergies(plusSpringEnergies(e));
+}
+
+double PhysicsEngine::plusSoftEnergies(double e) const {
+    if (soft_.empty()) return e;
+    return e + soft_.potentialEnergy(gravity_) + soft_.elasticEnergy();
 }
 
 double PhysicsEngine::plusSpringEnergies(double e) const {
@@ -386,7 +417,8 @@ double PhysicsEngine::totalEnergy() const {
         kinetic += gpl::kineticEnergy(b);
         if (gravity) potential += gpl::potentialEnergy(b, gravity_);
     }
-    return kinetic + plusSpringEnergies(potential);
+    if (!soft_.empty()) kinetic += soft_.kineticEnergy();
+    return kinetic + plusSoftEnergies(plusSpringEnergies(potential));
 }
 
 Vec3 PhysicsEngine::linearMomentum() const {
@@ -401,11 +433,11 @@ bool PhysicsEngine::allFinite() const {
     // finite, body by body, since finite numbers can also add up to an overflow.
     Vec3 sum = Vec3::Zero();
     for (const Body& b : bodies_) sum += b.position + b.velocity;
-    if (isFinite(sum)) return true;
+    if (isFinite(sum)) return soft_.empty() || soft_.allFinite();
     for (const Body& b : bodies_) {
         if (!isFinite(b.position) || !isFinite(b.velocity)) return false;
     }
-    return true;
+    return soft_.empty() || soft_.allFinite();
 }
 
 }  // namespace gpl

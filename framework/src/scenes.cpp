@@ -60,6 +60,7 @@ const SceneRegistry& scenes() {
         addWorksheet6Scenes(r);
         addWorksheet7Scenes(r);
         addStackingScenes(r);
+        addWorksheet8Scenes(r);
         addStudentScenes(r);
         return r;
     }();
@@ -73,7 +74,8 @@ void load(PhysicsEngine& engine, const Scene& scene) {
     engine.setRequiredStages(scene.stages);
     engine.setIntegratorKind(scene.integrator);
     const PhysicsEngine defaults;
-    engine.setConstraintIterations(defaults.constraintIterations());
+    engine.setConstraintIterations(scene.constraintIterations > 0 ? scene.constraintIterations
+                                                                   : defaults.constraintIterations());
     engine.setContactIterations(scene.contactIterations > 0 ? scene.contactIterations : defaults.contactIterations());
     engine.setInterpenetrationIterations(0);  // as many as the contact iterations
     engine.setContactSolver(scene.contactSolver);

@@ -26,6 +26,14 @@ const char* stageName(Stage stage) {
             return "constraints";
         case Stage::ParticleCollisions:
             return "particle collisions";
+        case Stage::SoftPredict:
+            return "predict";
+        case Stage::SoftContacts:
+            return "soft contacts";
+        case Stage::SoftProject:
+            return "project";
+        case Stage::SoftVelocities:
+            return "soft velocities";
         case Stage::Count:
             break;
     }

@@ -15,6 +15,11 @@
 //   resolveInterpenetrations()    sweeps of resolveInterpenetration() over contacts() (worksheet 3)
 //   rotate()                      integrateRotation() for every movable body (worksheet 6)
 //   solveContacts()               summed normal and friction impulses, warm started (worksheet 7)
+//   predictParticles()            soft bodies: v += h (g + wind / m), p = x + h v (worksheet 8)
+//   findParticleContacts()        soft bodies: particles near rigid bodies and near each other (worksheet 8)
+//   projectParticles()            soft bodies: sweeps of solveDistanceConstraint(), solveVolumeConstraint()
+//                                 and the contact kernels over the predictions (worksheet 8)
+//   updateParticleVelocities()    soft bodies: v = (p - x) / h, x = p (worksheet 8)
 #pragma once
 
 #include <array>
@@ -33,6 +38,7 @@
 #include "gpl/forces.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
+#include "gpl/soft_bodies.h"
 #include "gpl/stages.h"
 
 namespace gpl {
@@ -69,21 +75,30 @@ public:
     /// Removes the body at this index with the springs and constraints attached to it (throws
     /// std::out_of_range when there is none).
     void remove(std::size_t index);
-    /// Removes every body, spring, constraint and rope and the container, and resets time and the
-    /// step counter.
+    /// Removes every body, spring, constraint and rope, the container and the soft bodies, and
+    /// resets time and the step counter.
     void clear();
 
-    /// The whole dynamic state: bodies, time, step counter and position Verlet's previous
-    /// positions (for history and replays).
+    /// The whole dynamic state: bodies, time, step counter, position Verlet's previous positions,
+    /// and the soft bodies' particles: positions, velocities and inverse masses (a dragged particle
+    /// is pinned while held) (for history and replays).
     struct State {
         std::vector<Body> bodies;
         double time = 0.0;
         std::size_t steps = 0;
         std::vector<Vec3> previousPositions;
+        std::vector<Vec3> particlePositions;   ///< SoftBodies::x (m)
+        std::vector<Vec3> particleVelocities;  ///< SoftBodies::v (m/s)
+        std::vector<double> particleInverseMasses;  ///< SoftBodies::w (1/kg)
     };
-    State state() const { return {bodies_, time_, steps_, previousPositions_}; }
-    /// Restores a state taken from this engine with the same bodies, springs and constraints.
+    State state() const { return {bodies_, time_, steps_, previousPositions_, soft_.x, soft_.v, soft_.w}; }
+    /// Restores a state taken from this engine with the same bodies, springs, constraints and soft
+    /// bodies.
     void restore(const State& s);
+
+    // ---- Soft bodies (worksheet 8): cloth, ropes of particles, tetrahedral soft bodies ------------
+    SoftBodies& softBodies() { return soft_; }
+    const SoftBodies& softBodies() const { return soft_; }
 
     // ---- Springs and constraints (worksheet 2); bodies by name, checked, index returned -------------
     /// A Hooke spring between two bodies (one may be static: an anchor). restLength < 0 means the
@@ -155,8 +170,8 @@ public:
     // ---- Time stepping ------------------------------------------------------------------------
     /// One time step: empties the contacts (and the acceleration accumulators when the gravity
     /// stage, which sets them, is not active), runs simulationTimestep(), advances the clock and
-    /// checks that every body is still finite (throws SimulationError naming the body and the step
-    /// otherwise).
+    /// checks that every body and particle is still finite (throws SimulationError naming the body,
+    /// or the particle's mesh and index, and the step otherwise).
     void step();
     double time() const { return time_; }  ///< simulated time (s)
     std::size_t stepCount() const { return steps_; }
@@ -221,6 +236,16 @@ public:
     /// it, applyCollisionImpulses() and resolveInterpenetrations() leave the contacts to it.
     void solveContacts();
 
+    // ---- Framework stages (worksheet 8): the soft bodies' step (soft_bodies.h) -----------------------
+    /// Stage SoftPredict: softBodies().predict() with timeStep(), gravity() and time().
+    void predictParticles();
+    /// Stage SoftContacts: softBodies().findContacts() against bodies(), once per step.
+    void findParticleContacts();
+    /// Stage SoftProject: softBodies().project() with constraintIterations() sweeps against bodies().
+    void projectParticles();
+    /// Stage SoftVelocities: softBodies().updateVelocities() with timeStep().
+    void updateParticleVelocities();
+
     // ---- Hooks not implemented yet ------------------------------------------------------------
     /// Called by a stub: records the hook and prints "not implemented: <hook>" once per process.
     void notImplemented(const std::string& hook);
@@ -228,14 +253,15 @@ public:
     const std::set<std::string>& missingHooks() const { return missing_; }
 
     // ---- Diagnostics (world) --------------------------------------------------------------------
-    double kineticEnergy() const;    ///< J
-    /// J: the springs' plus, while the gravity stage is active, the gravitational (zero at the origin).
+    double kineticEnergy() const;    ///< J, the bodies' and the particles'
+    /// J: the springs' plus, while the gravity stage is active, the gravitational (zero at the origin);
+    /// plus the particles' gravitational and their XPBD constraints' elastic energy.
     double potentialEnergy() const;
     double totalEnergy() const;      ///< J
     Vec3 linearMomentum() const;     ///< kg m/s
     /// kg m^2/s, about the origin: the sum of every body's x × m v + R I R^T omega (rotation.cpp).
     Vec3 angularMomentum() const;
-    /// True when every body's position and velocity are finite.
+    /// True when every body's and particle's position and velocity are finite.
     bool allFinite() const;
 
 private:
@@ -270,6 +296,7 @@ private:
     SecondThread second_;                  ///< the second thread of the broad phase, collision detection and the friction stage
     FrictionStage friction_;               ///< the friction stage's memory and buffers (friction.h)
     ContactSolver contactSolver_ = ContactSolver::SequentialImpulses;
+    SoftBodies soft_;                      ///< worksheet 8's particles, meshes and constraints
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().
@@ -278,10 +305,12 @@ private:
     std::optional<Contact> ropeContactOf(const Rope& rope) const;
     /// step() before simulationTimestep(): empties the contacts (and the accumulators when gravity is off).
     void beginStep();
-    /// step() after simulationTimestep(): advances the clock and checks that every body is finite.
+    /// step() after simulationTimestep(): advances the clock and checks that every body and particle is finite.
     void endStep();
     /// e plus the energy of every spring, added one by one (J).
     double plusSpringEnergies(double e) const;
+    /// e plus the particles' gravitational and elastic energy (J); e itself without soft bodies.
+    double plusSoftEnergies(double e) const;
 };
 
 }  // namespace gpl

@@ -32,6 +32,9 @@ struct Scene {
     /// The friction stage's sweeps per step; 0: the engine's default. A scene that needs more to
     /// stand declares them and pays for them alone; changeable at run time.
     int contactIterations = 0;
+    /// Sweeps per step of the constraint stages (worksheet 2's projections, worksheet 8's
+    /// projection of the soft bodies); 0: the engine's default. Changeable at run time.
+    int constraintIterations = 0;
 };
 
 class SceneRegistry {
@@ -53,6 +56,9 @@ inline const StageSet kFrictionStages{Stage::ConstantAcceleration, Stage::Integr
                                       Stage::CollisionDetection,   Stage::Interpenetration, Stage::CollisionImpulses,
                                       Stage::Friction};
 
+/// The stages of a scene of soft bodies (worksheet 8): the particles' step, the rigid bodies at rest.
+inline const StageSet kSoftStages{Stage::SoftPredict, Stage::SoftContacts, Stage::SoftProject, Stage::SoftVelocities};
+
 /// Every scene: the course's and the student's (F11/F12).
 const SceneRegistry& scenes();
 
@@ -69,6 +75,7 @@ void addWorksheet5Scenes(SceneRegistry& registry);
 void addWorksheet6Scenes(SceneRegistry& registry);
 void addWorksheet7Scenes(SceneRegistry& registry);
 void addStackingScenes(SceneRegistry& registry);  // the contact solvers' test scenes (worksheet 7)
+void addWorksheet8Scenes(SceneRegistry& registry);  // cloth, ropes and soft bodies
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl

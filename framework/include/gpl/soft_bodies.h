@@ -67,10 +67,33 @@ struct SoftMesh {
     std::vector<std::array<std::uint32_t, 3>> triangles;
     double radius = 0.0;        ///< m, each particle's radius for contacts (a cloth's half thickness)
     bool selfCollision = false;  ///< cloth: particles of this mesh push each other apart
+    /// Its constraints: links [firstLink, firstLink + linkCount), volumes [firstVolume, +volumeCount).
+    std::uint32_t firstLink = 0, linkCount = 0;
+    std::uint32_t firstVolume = 0, volumeCount = 0;
+    int nx = 0, ny = 0;  ///< cloth: the grid's size; particle (i, j) is first + j nx + i
+};
+
+/// A particle near a rigid body this step (found once per step by findContacts()).
+struct ParticleContact {
+    std::uint32_t particle = 0;
+    std::uint32_t body = 0;          ///< index into the rigid engine's bodies
+    Vec3 normal = Vec3::UnitY();     ///< the direction of the last push out of the body (unit)
+    Vec3 bodyVelocity = Vec3::Zero();  ///< the body's velocity at the particle then (m/s)
+    double depth = 0.0;              ///< how far the body pushed the particle in this step's sweeps (m)
+    bool pushed = false;             ///< the body pushed the particle out during this step
 };
 
 /// A rectangular cloth of nx x ny particles (nx, ny >= 2), the grid spanning `origin` to
-/// origin + (nx - 1) spacing u + (ny - 1) spacing v, u and v unit and perpendicular.
+/// origin + (nx - 1) spacing u + (ny - 1) spacing v, u and v unit and perpendicular. Particle (i, j)
+/// starts at origin + spacing (i u + j v). Its constraints, in this order:
+///   stretch  the grid's edges: (nx - 1) ny + nx (ny - 1) links
+///   shear    both diagonals of every cell: 2 (nx - 1)(ny - 1) links
+///   bend     for every inner edge of the grid (an edge between two cells), the two corners
+///            opposite it in the two triangles that share it: (nx - 1)(ny - 2) + (nx - 2)(ny - 1)
+///            links. A cell's own diagonal is shared by its two triangles too, but their opposite
+///            corners are the cell's other diagonal, which shear holds already, so it adds none.
+/// Each cell is drawn as two triangles, split along alternate diagonals (a checkerboard), counter-
+/// clockwise seen from the side u x v points to.
 struct ClothSpec {
     std::string name = "cloth";
     int nx = 16, ny = 16;
@@ -103,7 +126,10 @@ struct RopeSpec {
 
 /// A soft body from a tetrahedral mesh: particle positions, tetrahedra (each of positive volume
 /// as given), edges and volumes held with their compliances. makeSoftCube() and makeSoftBall()
-/// build the meshes the scenes use.
+/// build the meshes the scenes use. Its constraints: every edge of the tetrahedra once (Edge
+/// links), then one volume per tetrahedron; its surface: the tetrahedra's faces that no other
+/// tetrahedron shares, counter-clockwise seen from outside. Every position must be a corner of a
+/// tetrahedron (it takes its mass from them).
 struct TetMeshSpec {
     std::string name = "soft";
     std::vector<Vec3> positions;
@@ -116,10 +142,15 @@ struct TetMeshSpec {
     double radius = 0.01;                  ///< m, > 0
 };
 
-/// A cube of side `side` (m) centred at `centre`, cut into cells x cells x cells cubes of 5 or 6
-/// tetrahedra each (cells >= 1).
+/// A cube of side `side` (m) centred at `centre`, cut into cells x cells x cells cubes of 6
+/// tetrahedra each (cells >= 1), all around the cube's diagonal from its lowest corner to its highest
+/// (Kuhn's split: neighbouring cubes share their faces' diagonals), every one of positive volume.
+/// Throws std::invalid_argument naming the mesh on cells < 1 or a side that is not positive.
 TetMeshSpec makeSoftCube(const std::string& name, const Vec3& centre, double side, int cells);
-/// A ball of radius (m) at centre from a lattice of tetrahedra: cells across its diameter (>= 2).
+/// A ball of radius (m) at centre from a lattice of tetrahedra: cells x cells x cells cubes across
+/// its diameter (>= 2), split as in makeSoftCube(), keeping the tetrahedra whose centroid lies in
+/// the ball; each vertex on the surface then moves out onto the sphere unless that would leave one
+/// of its tetrahedra with less than a tenth of its lattice volume.
 TetMeshSpec makeSoftBall(const std::string& name, const Vec3& centre, double radius, int cells);
 
 class SoftBodies {
@@ -133,16 +164,46 @@ public:
     std::size_t addSoftBody(const TetMeshSpec& spec);
     /// Pins (inverse mass 0) or frees a particle; throws std::out_of_range on a bad index.
     void setPinned(std::uint32_t particle, bool pinned);
-    /// Wind velocity (m/s) felt by cloth triangles, with a drag coefficient (kg/(m^2 s)) >= 0.
+    /// Wind velocity (m/s) felt by cloth triangles, with a drag coefficient (kg/(m^2 s)) >= 0; throws
+    /// std::invalid_argument when either is not finite or the drag is negative. Each triangle
+    /// feels drag ((wind(t) - v_tri) . n) n area, shared by its three corners, where wind(t) is the
+    /// velocity with a gust (windAt()).
     void setWind(const Vec3& velocity, double drag);
+    /// The wind at time t (s) at point q (m): the set velocity, stronger and weaker by up to a
+    /// quarter in waves that travel downwind, and turned sideways (horizontally, across it) by up to
+    /// a fifth of its speed: deterministic, so that a replay is the same.
+    Vec3 windAt(double t, const Vec3& q) const;
+    const Vec3& wind() const { return wind_; }
+    double windDrag() const { return windDrag_; }
+    /// Removes every particle, mesh and constraint, and the wind.
     void clear();
     bool empty() const { return x.empty(); }
+    /// The mesh with this name; throws std::out_of_range when there is none.
+    std::size_t meshIndex(const std::string& name) const;
 
     // ---- The step's four parts (the engine's stages SoftPredict, SoftContacts, SoftProject,
     // SoftVelocities); bodies are the rigid engine's, read only ----------------------------------
+    /// v += h (gravity + wind force / m) and p = x + h v for every free particle; a pinned one
+    /// keeps p = x and v = 0. time (s) is the step's start, for the wind's gusts.
     void predict(double h, const Vec3& gravity, double time);
+    /// Once per step, after predict(): contacts holds every particle-body pair (planes, spheres,
+    /// boxes) nearer than the particle's radius plus how far the particle and the body travel in
+    /// this step plus one radius more (for the constraints' moves); selfPairs holds the pairs of a
+    /// self-colliding cloth nearer than two radii plus twice the farthest travel, from a spatial
+    /// hash, leaving out pairs whose rest distance is below two radii (neighbours in the cloth).
     void findContacts(const std::vector<Body>& bodies, double h);
+    /// Lambdas to 0, then `iterations` sweeps, each: every mesh's links with
+    /// solveDistanceConstraint() and volumes with solveVolumeConstraint(); the self-collision
+    /// pairs pushed to two radii apart (shared by inverse mass); every contact pushed out of its
+    /// body with projectParticleSphere(), projectParticleBox() or the plane's projection. Then
+    /// positional friction at every contact the body pushed: the particle's move along the
+    /// surface in this step, relative to the body's, is cancelled when below mu_s times the
+    /// step's push, otherwise shortened by mu_d times it (mu_s, mu_d: the body's staticFriction and
+    /// friction). Friction comes once, after the sweeps, so that it answers the whole step's pull of
+    /// the constraints (a sweep after the first that finds the particle on the surface pushes nothing).
     void project(double h, int iterations, const std::vector<Body>& bodies);
+    /// v = (p - x) / h and x = p; a particle a body pushed keeps no velocity into it (relative to the
+    /// body's at that point).
     void updateVelocities(double h);
 
     // ---- Diagnostics --------------------------------------------------------------------------
@@ -153,9 +214,13 @@ public:
     double largestStretch(std::size_t mesh, LinkKind kind) const;
     /// Volume of the mesh's tetrahedra over their rest volume (1 for a soft body at rest).
     double volumeRatio(std::size_t mesh) const;
-    /// Deepest a particle's sphere lies inside a rigid body (m, 0 when none does).
+    /// Deepest a particle's sphere lies inside a rigid plane, sphere or box (m, 0 when none does).
     double deepestPenetration(const std::vector<Body>& bodies) const;
     bool allFinite() const;
+    /// The first particle whose position or velocity is not finite, or none (npos).
+    std::size_t firstNonFinite() const;
+    /// Links and volumes of every mesh.
+    std::size_t constraintCount() const { return links.size() + volumes.size(); }
 
     // ---- The particles (structure of arrays) and constraints, read by the viewer and the tests --
     std::vector<Vec3> x;       ///< positions at the end of the last step (m)
@@ -165,8 +230,26 @@ public:
     std::vector<double> mass;  ///< masses (kg) as built, kept when pinned
     std::vector<std::uint32_t> meshOf;  ///< each particle's mesh
     std::vector<SoftMesh> meshes;
+    std::vector<Vec3> x0;      ///< positions as built (m): rest shapes, for self-collision's neighbours
     std::vector<DistanceLink> links;
     std::vector<TetVolume> volumes;
+    std::vector<ParticleContact> contacts;  ///< this step's particle-body pairs (findContacts())
+    std::vector<std::array<std::uint32_t, 2>> selfPairs;  ///< this step's self-collision pairs
+
+private:
+    Vec3 wind_ = Vec3::Zero();
+    double windDrag_ = 0.0;
+    // Buffers kept from step to step, so that a step allocates nothing once they have grown.
+    std::vector<Vec3> force_;                 ///< wind force per particle (N)
+    std::vector<std::uint32_t> cellStart_;    ///< the spatial hash: each cell's first entry
+    std::vector<std::uint32_t> cellEntries_;  ///< particles sorted by cell
+    std::vector<std::uint32_t> nearby_;       ///< one particle's neighbours while they are collected
+
+    std::size_t addMesh(SoftMesh mesh);
+    void collectSelfPairs(const SoftMesh& mesh, double travel);
+    void pushSelfPairs();
+    void pushOutOfBodies(const std::vector<Body>& bodies);
+    void applyFriction(double h, const std::vector<Body>& bodies);
 };
 
 }  // namespace gpl

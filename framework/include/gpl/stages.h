@@ -21,6 +21,10 @@ enum class Stage {
     Friction,              ///< friction and resting contact: summed, warm-started impulses per contact point (worksheet 7)
     Constraints,           ///< move positions to satisfy rods, chains and the container (worksheet 2)
     ParticleCollisions,    ///< push overlapping spheres apart by moving positions (worksheet 2)
+    SoftPredict,           ///< soft bodies: velocities by gravity and wind, predicted positions (worksheet 8)
+    SoftContacts,          ///< soft bodies: particles near rigid bodies and near each other, once per step (worksheet 8)
+    SoftProject,           ///< soft bodies: sweeps of the constraint and contact kernels over the predictions (worksheet 8)
+    SoftVelocities,        ///< soft bodies: velocities from the corrected predictions, which become the positions (worksheet 8)
     Count
 };
 
