@@ -34,6 +34,31 @@ void writeRows(std::ostream& csv, const PhysicsEngine& e) {
     writeRow(csv, e, "world", centre, centreVelocity, e.kineticEnergy(), e.potentialEnergy());
 }
 
+// The soft bodies' measures of the summary, taken at one state.
+void measureSoftBodies(const PhysicsEngine& e, RunSummary& s) {
+    const SoftBodies& soft = e.softBodies();
+    if (soft.empty()) return;
+    for (std::size_t m = 0; m < soft.meshes.size(); ++m) {
+        const SoftMesh& mesh = soft.meshes[m];
+        switch (mesh.kind) {
+            case SoftMesh::Kind::Cloth:
+                s.largestStretch = std::max(s.largestStretch, soft.largestStretch(m, LinkKind::Stretch));
+                break;
+            case SoftMesh::Kind::Rope:
+                s.largestStretch = std::max(s.largestStretch, soft.largestStretch(m, LinkKind::Rope));
+                break;
+            case SoftMesh::Kind::SoftBody: {
+                s.largestStretch = std::max(s.largestStretch, soft.largestStretch(m, LinkKind::Edge));
+                const double ratio = soft.volumeRatio(m);
+                s.smallestVolumeRatio = std::min(s.smallestVolumeRatio, ratio);
+                s.largestVolumeRatio = std::max(s.largestVolumeRatio, ratio);
+                break;
+            }
+        }
+    }
+    s.deepestPenetration = std::max(s.deepestPenetration, soft.deepestPenetration(e.bodies()));
+}
+
 }  // namespace
 
 void writeCsvHeader(std::ostream& csv) { csv << "step,time,body,x,y,z,vx,vy,vz,kinetic,potential,total\n"; }
@@ -55,8 +80,10 @@ RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
         s.finalAngularMomentum = engine.angularMomentum();
         s.maxSpeed = 0.0;
         for (const Body& b : engine.bodies()) s.maxSpeed = std::max(s.maxSpeed, b.velocity.norm());
+        for (const Vec3& v : engine.softBodies().v) s.maxSpeed = std::max(s.maxSpeed, v.norm());
     };
     atEnd();
+    measureSoftBodies(engine, s);
     double previous = s.initialEnergy;
     try {
         for (std::size_t i = 0; i < steps; ++i) {
@@ -73,6 +100,7 @@ RunSummary run(PhysicsEngine& engine, std::size_t steps, std::ostream* csv) {
                 csv->flush();  // every finished step is in the file, whatever ends the program
             }
             atEnd();
+            measureSoftBodies(engine, s);
         }
     } catch (const SimulationError& error) {
         s.error = error.what();
@@ -125,6 +153,16 @@ std::string describe(const RunSummary& s, const PhysicsEngine& e) {
     if (e.requiredStages().contains(Stage::CollisionDetection) || e.requiredStages().contains(Stage::Ropes)) {
         out << "contacts: at most " << s.maxContacts << " in one step, deepest " << s.deepestContact
             << " m (found before resolution)\n";
+    }
+    const SoftBodies& soft = e.softBodies();
+    if (!soft.empty()) {
+        bool anySoftBody = false;
+        for (const SoftMesh& mesh : soft.meshes) anySoftBody = anySoftBody || mesh.kind == SoftMesh::Kind::SoftBody;
+        out << "soft bodies: " << soft.x.size() << " particles in " << soft.meshes.size() << " mesh"
+            << (soft.meshes.size() == 1 ? "" : "es") << ", " << soft.constraintCount() << " constraints; largest stretch "
+            << 100.0 * s.largestStretch << " %";
+        if (anySoftBody) out << ", volume ratio " << s.smallestVolumeRatio << " .. " << s.largestVolumeRatio;
+        out << ", deepest penetration " << s.deepestPenetration << " m\n";
     }
     openHooks();
     return out.str();

@@ -83,30 +83,33 @@ void clothOnTable(PhysicsEngine& e) {
     e.softBodies().addCloth(c);
 }
 
-// A soft cube of side 0.5 m (4 x 4 x 4 cells of six tetrahedra, 100 kg/m^3) dropped from 1 m onto
-// the floor: its edges give, it squashes and springs back; its volumes are held (compliance 0).
+// A soft cube of side 0.5 m (4 x 4 x 4 cells of six tetrahedra, 12.5 kg) dropped from 1 m onto the
+// floor: its edges give (compliance 2e-3 m/N), it squashes by about a fifth of its height, springs
+// back, jiggles and comes to rest; its volumes are held (compliance 0).
 void softCube(PhysicsEngine& e) {
     e.add(ground());
     TetMeshSpec s = makeSoftCube("cube", {0.0, 1.25, 0.0}, 0.5, 4);
-    s.edgeCompliance = 2e-4;
+    s.edgeCompliance = 2e-3;
     s.volumeCompliance = 0.0;
     s.radius = 0.01;
     e.softBodies().addSoftBody(s);
 }
 
 // A soft ball of radius 0.4 m (a lattice of 6 cells across, 100 kg/m^3) dropped from 1 m onto the
-// floor: it squashes into a cushion and recovers, its volume held.
+// floor: its edges give as the cube's, it squashes into a cushion, bounces and recovers, its volume
+// held.
 void softBall(PhysicsEngine& e) {
     e.add(ground());
     TetMeshSpec s = makeSoftBall("ball", {0.0, 1.4, 0.0}, 0.4, 6);
-    s.edgeCompliance = 2e-4;
+    s.edgeCompliance = 2e-3;
     s.volumeCompliance = 0.0;
     s.radius = 0.01;
     e.softBodies().addSoftBody(s);
 }
 
 // Two ropes of 50 segments, 2.5 m and 0.5 kg each, pinned at one end 3 m up and released
-// horizontal: "rope-pbd" with PBD's stiffness 0.5 (its stretch depends on the sweeps and the step),
+// horizontal: "rope-pbd" with PBD's stiffness 0.8 (its stretch depends on the sweeps and the step:
+// with 15 it hangs a fifth longer),
 // "rope-xpbd" with XPBD's compliance 1e-4 m/N (hanging, its top segment stretches by 1e-4 times the
 // 4.9 N it carries, whatever the sweeps).
 void ropePbdXpbd(PhysicsEngine& e) {
@@ -117,7 +120,7 @@ void ropePbdXpbd(PhysicsEngine& e) {
     r.radius = 0.02;
     r.name = "rope-pbd";
     r.method = SoftMethod::PBD;
-    r.stiffness = 0.5;
+    r.stiffness = 0.8;
     r.start = {-1.25, 3.0, -0.4};
     r.end = {1.25, 3.0, -0.4};
     e.softBodies().addRope(r);
@@ -131,8 +134,9 @@ void ropePbdXpbd(PhysicsEngine& e) {
 }
 
 // Two cloths of 20 x 20 particles (0.95 m square, 0.5 kg) hanging from their top edges, pinned
-// along it: "stretchy" with stretch and shear compliance 0.05 m/N (its top row carries about a
-// twentieth of its weight per link, 0.25 N, and stretches by about a quarter), "stiff" with none.
+// along it: "stretchy" with stretch and shear compliance 0.1 m/N (its top row's vertical links
+// carry about a twentieth of its weight each, 0.25 N, which would stretch them by half their
+// length; the diagonals take part of it), which sags longer, and "stiff" with none.
 void clothStretchyStiff(PhysicsEngine& e) {
     e.add(ground());
     for (const bool stretchy : {true, false}) {
@@ -145,8 +149,8 @@ void clothStretchyStiff(PhysicsEngine& e) {
         c.u = Vec3::UnitX();
         c.v = -Vec3::UnitY();
         c.mass = 0.5;
-        c.stretchCompliance = stretchy ? 0.05 : 0.0;
-        c.shearCompliance = stretchy ? 0.05 : 1e-3;
+        c.stretchCompliance = stretchy ? 0.1 : 0.0;
+        c.shearCompliance = stretchy ? 0.1 : 1e-3;
         c.bendCompliance = 1.0;
         for (int i = 0; i < c.nx; ++i) c.pinned.push_back({i, 0});
         e.softBodies().addCloth(c);
@@ -186,7 +190,7 @@ void addWorksheet8Scenes(SceneRegistry& r) {
                     softCube, {0.0, 0.7, 0.0}, 3.5));
     r.add(softScene("soft-ball", "A soft ball dropped on the floor: it squashes and recovers, its volume kept.", softBall,
                     {0.0, 0.8, 0.0}, 4.0));
-    r.add(softScene("rope-pbd-xpbd", "Two ropes released horizontal: PBD (stiffness 0.5) stretches, XPBD holds its length.",
+    r.add(softScene("rope-pbd-xpbd", "Two ropes released horizontal: PBD (stiffness 0.8) stretches, XPBD holds its length.",
                     ropePbdXpbd, {0.0, 1.8, 0.0}, 6.0));
     r.add(softScene("cloth-stretchy-stiff", "Two hanging cloths: one with stretch compliance sags long, the other keeps its size.",
                     clothStretchyStiff, {0.0, 1.9, 0.0}, 4.0));

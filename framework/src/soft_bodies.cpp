@@ -386,6 +386,9 @@ double SoftBodies::deepestPenetration(const std::vector<Body>& bodies) const {
 bool SoftBodies::allFinite() const { return firstNonFinite() == static_cast<std::size_t>(-1); }
 
 std::size_t SoftBodies::firstNonFinite() const {
+    // Free particles first: a pinned one turns NaN only through a neighbour's (0 times NaN).
+    for (std::size_t i = 0; i < x.size(); ++i)
+        if (w[i] != 0.0 && (!isFinite(x[i]) || !isFinite(v[i]))) return i;
     for (std::size_t i = 0; i < x.size(); ++i)
         if (!isFinite(x[i]) || !isFinite(v[i])) return i;
     return static_cast<std::size_t>(-1);

@@ -50,6 +50,9 @@ DistanceLink linkBetween(const std::vector<Vec3>& x, std::uint32_t i, std::uint3
 // The six tetrahedra of a unit cube around its diagonal from corner 0 to corner 7 (Kuhn's split),
 // corners numbered by bits: bit 0 x, bit 1 y, bit 2 z. Each walks from 0 to 7 along the axes in
 // one of the six orders; the order of its corners is fixed afterwards so that its volume is positive.
+// The lattice mirrors the split from cell to cell along each axis: a cell shares each face's
+// diagonal with its neighbour (their split is the mirror image across that face), and the mesh has
+// no preferred diagonal, so that a cube of an even number of cells is as symmetric as the cube.
 constexpr int kKuhnTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}};
 
 // A lattice of n x n x n cubes of side `cell` from `low`, each cut into Kuhn's six tetrahedra.
@@ -66,8 +69,10 @@ void kuhnLattice(const Vec3& low, double cell, int n, std::vector<Vec3>& positio
             for (int i = 0; i < n; ++i)
                 for (const auto& t : kKuhnTets) {
                     std::array<int, 4> tet{};
-                    for (int c = 0; c < 4; ++c)
-                        tet[c] = vertex(i + (t[c] & 1), j + ((t[c] >> 1) & 1), k + ((t[c] >> 2) & 1));
+                    for (int c = 0; c < 4; ++c) {
+                        const int corner = t[c] ^ (i & 1) ^ ((j & 1) << 1) ^ ((k & 1) << 2);  // mirrored
+                        tet[c] = vertex(i + (corner & 1), j + ((corner >> 1) & 1), k + ((corner >> 2) & 1));
+                    }
                     const std::array<Vec3, 4> corners{positions[tet[0]], positions[tet[1]], positions[tet[2]],
                                                       positions[tet[3]]};
                     if (tetrahedronVolume(corners) < 0.0) std::swap(tet[2], tet[3]);

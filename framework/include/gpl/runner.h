@@ -16,7 +16,7 @@ struct RunSummary {
     double initialEnergy = 0.0;      ///< J
     double finalEnergy = 0.0;        ///< J
     double maxEnergyIncrease = 0.0;  ///< largest increase of the total energy over one step (J), 0 if none
-    double maxSpeed = 0.0;           ///< largest speed of any body at the end (m/s)
+    double maxSpeed = 0.0;           ///< largest speed of any body or particle at the end (m/s)
     std::size_t maxContacts = 0;     ///< most contacts found in one step
     double deepestContact = 0.0;     ///< largest depth of any contact found, before resolution (m)
     std::string error;               ///< empty, or why the run stopped early (a non-finite state)
@@ -24,6 +24,13 @@ struct RunSummary {
     // The world's angular momentum about the origin (kg m^2/s), shown in scenes that rotate.
     Vec3 initialAngularMomentum = Vec3::Zero();
     Vec3 finalAngularMomentum = Vec3::Zero();  ///< at the end
+
+    // Soft bodies (worksheet 8), over every state of the run (the start's and each step's end),
+    // shown in scenes that have them.
+    double largestStretch = 0.0;          ///< largest relative stretch of a cloth's grid edge, a rope or a soft body's edge
+    double smallestVolumeRatio = 1.0;     ///< of any soft body: its volume over its rest volume
+    double largestVolumeRatio = 1.0;
+    double deepestPenetration = 0.0;      ///< m, the deepest a particle's sphere lay inside a rigid body
 };
 
 /// The CSV header written by run(): step,time,body,x,y,z,vx,vy,vz,kinetic,potential,total.

@@ -143,8 +143,9 @@ struct TetMeshSpec {
 };
 
 /// A cube of side `side` (m) centred at `centre`, cut into cells x cells x cells cubes of 6
-/// tetrahedra each (cells >= 1), all around the cube's diagonal from its lowest corner to its highest
-/// (Kuhn's split: neighbouring cubes share their faces' diagonals), every one of positive volume.
+/// tetrahedra each (cells >= 1), all around one diagonal of the cell (Kuhn's split), mirrored from
+/// cell to cell along each axis so that neighbours share their faces' diagonals and an even number
+/// of cells is symmetric like the cube; every tetrahedron of positive volume.
 /// Throws std::invalid_argument naming the mesh on cells < 1 or a side that is not positive.
 TetMeshSpec makeSoftCube(const std::string& name, const Vec3& centre, double side, int cells);
 /// A ball of radius (m) at centre from a lattice of tetrahedra: cells x cells x cells cubes across
@@ -217,7 +218,9 @@ public:
     /// Deepest a particle's sphere lies inside a rigid plane, sphere or box (m, 0 when none does).
     double deepestPenetration(const std::vector<Body>& bodies) const;
     bool allFinite() const;
-    /// The first particle whose position or velocity is not finite, or none (npos).
+    /// The first free particle whose position or velocity is not finite, else the first pinned one
+    /// (a pinned particle turns NaN only through a neighbour's constraint, 0 times NaN), or none
+    /// (std::size_t(-1)).
     std::size_t firstNonFinite() const;
     /// Links and volumes of every mesh.
     std::size_t constraintCount() const { return links.size() + volumes.size(); }
