@@ -15,6 +15,7 @@
 #include "gpl/response.h"
 #include "gpl/rotation.h"
 #include "gpl/scenes.h"
+#include "gpl/soft_constraints.h"
 #include "submission.h"
 #include "../autograder/graded.h"
 
@@ -389,6 +390,59 @@ void applyNormalImpulse(const ContactPoint& point, Body& a, Body& b, PointImpuls
 
 void applyFrictionImpulse(const ContactPoint& point, Body& a, Body& b, PointImpulse& sum) {
     twoBodies(Call::ApplyFrictionImpulse, pointInputs(point, a, b, sum), a, b, &sum);
+}
+
+// ---- Worksheet 8: cloth and soft bodies -----------------------------------------------------------
+// The answers are read as they come, NaN or huge included: the tests compare them with physics, so
+// that nonsense fails the test it answered.
+
+DistanceCorrection solveDistanceConstraint(const Vec3& x1, const Vec3& x2, double w1, double w2, double rest,
+                                           double compliance, double h, double lambda) {
+    Writer w;
+    w.vec3(x1);
+    w.vec3(x2);
+    for (const double v : {w1, w2, rest, compliance, h, lambda}) w.number(v);
+    DistanceCorrection c;
+    grading::parseAnswer(Call::SolveDistanceConstraint, grading::request(Call::SolveDistanceConstraint, w.bytes()),
+                         [&](Reader& r) { c = r.distanceCorrection(); });
+    return c;
+}
+
+VolumeCorrection solveVolumeConstraint(const std::array<Vec3, 4>& x, const std::array<double, 4>& w, double restVolume,
+                                       double compliance, double h, double lambda) {
+    Writer out;
+    for (const Vec3& c : x) out.vec3(c);
+    for (const double c : w) out.number(c);
+    for (const double v : {restVolume, compliance, h, lambda}) out.number(v);
+    VolumeCorrection c;
+    grading::parseAnswer(Call::SolveVolumeConstraint, grading::request(Call::SolveVolumeConstraint, out.bytes()),
+                         [&](Reader& r) { c = r.volumeCorrection(); });
+    return c;
+}
+
+Vec3 projectParticleSphere(const Vec3& p, double r, const Vec3& centre, double radius) {
+    Writer w;
+    w.vec3(p);
+    w.number(r);
+    w.vec3(centre);
+    w.number(radius);
+    Vec3 moved = p;
+    grading::parseAnswer(Call::ProjectParticleSphere, grading::request(Call::ProjectParticleSphere, w.bytes()),
+                         [&](Reader& r) { moved = r.vec3(); });
+    return moved;
+}
+
+Vec3 projectParticleBox(const Vec3& p, double r, const Vec3& centre, const Quat& orientation, const Vec3& half) {
+    Writer w;
+    w.vec3(p);
+    w.number(r);
+    w.vec3(centre);
+    w.quat(orientation);
+    w.vec3(half);
+    Vec3 moved = p;
+    grading::parseAnswer(Call::ProjectParticleBox, grading::request(Call::ProjectParticleBox, w.bytes()),
+                         [&](Reader& r) { moved = r.vec3(); });
+    return moved;
 }
 
 // ---- The student's own scenes -------------------------------------------------------------------

@@ -11,6 +11,7 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <array>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
@@ -26,6 +27,7 @@
 #include "gpl/hooks.h"
 #include "gpl/response.h"
 #include "gpl/rotation.h"
+#include "gpl/soft_constraints.h"
 #include "protocol.h"
 
 namespace gpl::grading {
@@ -389,6 +391,43 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             out.body(a);
             out.body(b);
             out.pointImpulse(sum);
+            return;
+        }
+        case Call::SolveDistanceConstraint: {
+            const Vec3 x1 = in.vec3(), x2 = in.vec3();
+            const double w1 = in.number(), w2 = in.number(), rest = in.number(), compliance = in.number();
+            const double h = in.number(), lambda = in.number();
+            in.end();
+            out.distanceCorrection(solveDistanceConstraint(x1, x2, w1, w2, rest, compliance, h, lambda));
+            return;
+        }
+        case Call::SolveVolumeConstraint: {
+            std::array<Vec3, 4> x;
+            for (Vec3& c : x) c = in.vec3();
+            std::array<double, 4> w{};
+            for (double& c : w) c = in.number();
+            const double restVolume = in.number(), compliance = in.number(), h = in.number(), lambda = in.number();
+            in.end();
+            out.volumeCorrection(solveVolumeConstraint(x, w, restVolume, compliance, h, lambda));
+            return;
+        }
+        case Call::ProjectParticleSphere: {
+            const Vec3 p = in.vec3();
+            const double r = in.number();
+            const Vec3 centre = in.vec3();
+            const double radius = in.number();
+            in.end();
+            out.vec3(projectParticleSphere(p, r, centre, radius));
+            return;
+        }
+        case Call::ProjectParticleBox: {
+            const Vec3 p = in.vec3();
+            const double r = in.number();
+            const Vec3 centre = in.vec3();
+            const Quat orientation = in.quat();
+            const Vec3 half = in.vec3();
+            in.end();
+            out.vec3(projectParticleBox(p, r, centre, orientation, half));
             return;
         }
         case Call::End:

@@ -32,6 +32,10 @@ const char* callName(Call call) {
         case Call::ApplyNormalImpulse: return "applyNormalImpulse()";
         case Call::ApplyFrictionImpulse: return "applyFrictionImpulse()";
         case Call::ApplyWarmStart: return "applyWarmStart()";
+        case Call::SolveDistanceConstraint: return "solveDistanceConstraint()";
+        case Call::SolveVolumeConstraint: return "solveVolumeConstraint()";
+        case Call::ProjectParticleSphere: return "projectParticleSphere()";
+        case Call::ProjectParticleBox: return "projectParticleBox()";
         case Call::Steps: return "simulationTimestep()";
         case Call::IntegratorSteps: return "an integrator kernel";
         case Call::RotationSteps: return "integrateRotation()";
@@ -109,6 +113,17 @@ void Writer::pointImpulse(const PointImpulse& p) {
 void Writer::contactPoint(const ContactPoint& p) {
     for (const Vec3* v : {&p.p, &p.ra, &p.rb, &p.n, &p.t1, &p.t2}) vec3(*v);
     for (const double x : {p.Kn, p.Kt1, p.Kt2, p.target, p.staticFriction, p.friction}) number(x);
+}
+
+void Writer::distanceCorrection(const DistanceCorrection& c) {
+    vec3(c.dx1);
+    vec3(c.dx2);
+    number(c.dlambda);
+}
+
+void Writer::volumeCorrection(const VolumeCorrection& c) {
+    for (const Vec3& d : c.dx) vec3(d);
+    number(c.dlambda);
 }
 
 void Writer::vec3s(const std::vector<Vec3>& v) {
@@ -236,6 +251,21 @@ ContactPoint Reader::contactPoint() {
     for (Vec3* v : {&p.p, &p.ra, &p.rb, &p.n, &p.t1, &p.t2}) *v = vec3();
     for (double* x : {&p.Kn, &p.Kt1, &p.Kt2, &p.target, &p.staticFriction, &p.friction}) *x = number();
     return p;
+}
+
+DistanceCorrection Reader::distanceCorrection() {
+    DistanceCorrection c;
+    c.dx1 = vec3();
+    c.dx2 = vec3();
+    c.dlambda = number();
+    return c;
+}
+
+VolumeCorrection Reader::volumeCorrection() {
+    VolumeCorrection c;
+    for (Vec3& d : c.dx) d = vec3();
+    c.dlambda = number();
+    return c;
 }
 
 std::vector<Vec3> Reader::vec3s() {

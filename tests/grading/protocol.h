@@ -21,6 +21,7 @@
 #include "gpl/contact.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
+#include "gpl/soft_constraints.h"
 
 namespace gpl::grading {
 
@@ -52,6 +53,10 @@ enum class Call : std::uint8_t {
     ApplyNormalImpulse,
     ApplyFrictionImpulse,
     ApplyWarmStart,
+    SolveDistanceConstraint,
+    SolveVolumeConstraint,
+    ProjectParticleSphere,
+    ProjectParticleBox,
     Steps,            ///< whole steps of the engine, simulationTimestep() in each (graded.h: grading::steps())
     IntegratorSteps,  ///< steps of an integrator kernel under a LinearForce (graded.h: grading::integratorSteps())
     RotationSteps,    ///< steps of integrateRotation() of one body (graded.h: grading::rotationSteps())
@@ -118,6 +123,8 @@ public:
     void optionalContact(const std::optional<Contact>& c);
     void pointImpulse(const PointImpulse& p);
     void contactPoint(const ContactPoint& p);
+    void distanceCorrection(const DistanceCorrection& c);
+    void volumeCorrection(const VolumeCorrection& c);
     void vec3s(const std::vector<Vec3>& v);
     void bodies(const std::vector<Body>& bodies);
     void contacts(const std::vector<Contact>& contacts);
@@ -156,6 +163,8 @@ public:
     std::optional<Contact> optionalContact();
     PointImpulse pointImpulse();
     ContactPoint contactPoint();
+    DistanceCorrection distanceCorrection();
+    VolumeCorrection volumeCorrection();
     std::vector<Vec3> vec3s();
     std::vector<Body> bodies();
     std::vector<Contact> contacts();
