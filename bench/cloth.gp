@@ -57,13 +57,16 @@ if (have('cloth-cost.dat') || have('cloth-bullet.dat')) {
     set output dir.'/cloth-speed.'.ext
     set multiplot layout 1,2 title 'What a cloth step costs'
     set bmargin 6
+    unset logscale
+    set format x '%g'
+    set format y '%g'
     if (have('cloth-cost.dat')) {
         data = dir.'/cloth-cost.dat'
         set title 'hanging cloths, XPBD, 10 iterations'
         set xlabel 'particles'
         set logscale x 2
         set format x '%g'
-        set ylabel 'ns per constraint projection'
+        set ylabel 'ns per constraint projection (CPU time)'
         set yrange [0:*]
         set y2label 'µs per step'
         set logscale y2

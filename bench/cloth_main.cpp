@@ -128,7 +128,7 @@ void stretchPart(Output& output, const std::vector<ClothMethod>& methods) {
 // 2. What a step and one projection cost, on hanging cloths of growing size.
 void costPart(Output& output) {
     std::cout << "\n2. cost: hanging cloths (1 m square, XPBD, compliance 0), " << kCostIterations
-              << " iterations, h = 1/60 s, 120 steps, nothing to collide with; each part's median wall time per step; "
+              << " iterations, h = 1/60 s, 120 steps, nothing to collide with; each part's median CPU time per step; "
               << "ns per projection: the projection part over iterations x links\n";
     const std::vector<std::size_t> widths{11, 11, 8, 12, 13, 12, 15, 10, 14};
     row({"n x n", "particles", "links", "predict us", "contacts us", "project us", "velocities us", "step us",

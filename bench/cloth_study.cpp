@@ -134,19 +134,20 @@ StepCost measureStepCost(const ClothSpec& spec, double h, int iterations, int st
     cost.links = static_cast<int>(soft.links.size());
     cost.iterations = iterations;
     std::vector<double> predict, contacts, project, velocities;
+    const auto ns = [](double fromMs) { return (threadCpuMs() - fromMs) * 1e6; };
     for (int s = 0; s < steps; ++s) {
-        auto begin = Clock::now();
+        double begin = threadCpuMs();
         soft.predict(h, kGravity, s * h);
-        predict.push_back(nsSince(begin));
-        begin = Clock::now();
+        predict.push_back(ns(begin));
+        begin = threadCpuMs();
         soft.findContacts(none, h);
-        contacts.push_back(nsSince(begin));
-        begin = Clock::now();
+        contacts.push_back(ns(begin));
+        begin = threadCpuMs();
         soft.project(h, iterations, none);
-        project.push_back(nsSince(begin));
-        begin = Clock::now();
+        project.push_back(ns(begin));
+        begin = threadCpuMs();
         soft.updateVelocities(h);
-        velocities.push_back(nsSince(begin));
+        velocities.push_back(ns(begin));
     }
     cost.predictNs = median(predict);
     cost.contactsNs = median(contacts);

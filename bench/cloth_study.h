@@ -63,9 +63,9 @@ struct ChainStretch {
 };
 ChainStretch chainStretch(int n, double side, double mass, double compliance, double g = 9.81);
 
-/// What a step costs: the wall time of each of the four parts (median over the steps, ns), the
-/// constraints projected (links; contacts are counted apart), and the ns per projection: the
-/// projection part's time over iterations x links.
+/// What a step costs: the thread's CPU time in each of the four parts (median over the steps, ns;
+/// the time other programs had the core is left out), the constraints projected (links), and the
+/// ns per projection: the projection part's time over iterations x links.
 struct StepCost {
     int particles = 0, links = 0, iterations = 0;
     double predictNs = 0, contactsNs = 0, projectNs = 0, velocitiesNs = 0;
