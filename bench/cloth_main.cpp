@@ -278,7 +278,7 @@ int main(int argc, char** argv) {
     app.add_flag("--no-bullet", skipBullet, "this engine only");
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
-        std::cerr << error << '\n';
+        std::cerr << "error: " << error << '\n';
         return 2;
     }
     const std::vector<std::string> parts = split(partList);
