@@ -48,6 +48,7 @@ void PhysicsEngine::remove(std::size_t index) {
     contacts_.clear();
     nearPairs_.clear();
     friction_.forget();  // the friction stage's sums name bodies by index
+    soft_.contacts.clear();  // so do the particles' contacts
 }
 
 void PhysicsEngine::restore(const State& s) {

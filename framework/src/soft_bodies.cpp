@@ -116,13 +116,18 @@ void SoftBodies::findContacts(const std::vector<Body>& bodies, double h) {
             }
         }
     }
-    // Self-collision: particles of one cloth near each other.
+    // Self-collision: particles of one cloth near each other. Two particles approach each other by
+    // at most twice the farthest any particle travels apart from the cloth's mean move (a cloth
+    // falling as a whole brings none of its particles nearer).
     selfPairs.clear();
     for (const SoftMesh& mesh : meshes) {
         if (!mesh.selfCollision) continue;
+        Vec3 mean = Vec3::Zero();
+        for (std::uint32_t i = mesh.first; i < mesh.first + mesh.count; ++i) mean += p[i] - x[i];
+        mean /= mesh.count;
         double travel = 0.0;
         for (std::uint32_t i = mesh.first; i < mesh.first + mesh.count; ++i)
-            travel = std::max(travel, (p[i] - x[i]).norm());
+            travel = std::max(travel, (p[i] - x[i] - mean).norm());
         collectSelfPairs(mesh, travel);
     }
 }

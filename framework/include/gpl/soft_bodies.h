@@ -190,8 +190,9 @@ public:
     /// Once per step, after predict(): contacts holds every particle-body pair (planes, spheres,
     /// boxes) nearer than the particle's radius plus how far the particle and the body travel in
     /// this step plus one radius more (for the constraints' moves); selfPairs holds the pairs of a
-    /// self-colliding cloth nearer than two radii plus twice the farthest travel, from a spatial
-    /// hash, leaving out pairs whose rest distance is below two radii (neighbours in the cloth).
+    /// self-colliding cloth nearer than two radii plus twice the farthest travel relative to the
+    /// cloth's mean move, from a spatial hash, leaving out pairs whose rest distance is below two
+    /// radii (neighbours in the cloth).
     void findContacts(const std::vector<Body>& bodies, double h);
     /// Lambdas to 0, then `iterations` sweeps, each: every mesh's links with
     /// solveDistanceConstraint() and volumes with solveVolumeConstraint(); the self-collision
