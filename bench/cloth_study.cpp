@@ -26,7 +26,7 @@ void applyMethod(ClothSpec& spec, const ClothMethod& m) {
     spec.shearCompliance = spec.bendCompliance = kShearBendSofter * alpha;
 }
 
-// The stretch links of the cloth's mesh 0.
+// The cloth's stretch links (each of the study's runs steps one cloth).
 std::vector<DistanceLink> stretchLinks(const SoftBodies& soft) {
     std::vector<DistanceLink> out;
     for (const DistanceLink& l : soft.links) {

@@ -28,9 +28,9 @@ struct ClothMethod {
 /// The four methods of the study: PBD with stiffness 1 and 0.5, XPBD with compliance 0 and
 /// kSoftCompliance.
 std::vector<ClothMethod> clothMethods();
-/// The compliance of the soft XPBD cloth's stretch links (m/N): on the hanging cloth its top links
-/// stretch by several per cent under the cloth's weight, a property of the material that neither the
-/// step nor the iterations change.
+/// The compliance of the soft XPBD cloth's stretch links (m/N): under the study's hanging cloth's
+/// weight its top links stretch by about a sixth (chainStretch()), a property of the material that
+/// neither the step nor the iterations change.
 constexpr double kSoftCompliance = 2e-2;
 constexpr double kShearBendSofter = 100.0;
 
@@ -54,8 +54,8 @@ struct SettleTimes {
 Settled settleHanging(const ClothSpec& spec, double h, int iterations, const SettleTimes& times = {});
 
 /// The hanging cloth's settled stretch as theory gives it for XPBD once the iterations converge:
-/// every column hangs as a chain of springs (the shear and bend links kShearBendSofter times softer
-/// carry about 1/kShearBendSofter of the load), the vertical link below row j carries the weight of
+/// every column hangs as a chain of springs (the shear and bend links, kShearBendSofter times softer,
+/// carry a few per cent of the load), the vertical link below row j carries the weight of
 /// the n - 1 - j particles under it and stretches by tension x compliance, the horizontal links not
 /// at all. largest: the top links; mean: over all stretch links.
 struct ChainStretch {
