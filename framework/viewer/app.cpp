@@ -125,9 +125,16 @@ void App::frameScene() {
     const Scene& s = session_.scene();
     if (s.viewDistance > 0.0) {
         camera_.lookAt(s.viewTarget, s.viewDistance);
-    } else {
-        camera_.frame(session_.engine().bodies());
+        return;
     }
+    // Every body in view, and every soft mesh, each as the ball around its particles.
+    std::vector<Body> all = session_.engine().bodies();
+    const SoftBodies& soft = session_.engine().softBodies();
+    for (std::size_t m = 0; m < soft.meshes.size(); ++m) {
+        const Bounds box = meshBounds(soft, m);
+        if (!box.isEmpty()) all.push_back(sphere(soft.meshes[m].name, std::max(0.5 * box.diagonal().norm(), 1e-3), 1.0).at(box.center()));
+    }
+    camera_.frame(all);
 }
 
 void App::quit(int code) {
@@ -173,22 +180,56 @@ std::string App::state() const {
     j["contacts_shown"] = contacts_;
     j["contacts"] = e.contacts().size();
     j["contact_iterations"] = e.contactIterations();
+    j["constraint_iterations"] = e.constraintIterations();
     for (std::size_t i = 0; i < kStageCount; ++i) {
         const auto s = static_cast<Stage>(i);
         if (e.requiredStages().contains(s)) j["stages"][stageName(s)] = e.stageEnabled(s);
     }
     j["selected_restitution"] =
         session_.selectedBody() ? nlohmann::json(session_.selectedBody()->restitution) : nlohmann::json();
+    // The soft bodies: each mesh as the panel shows it, where its particles are, and the particles
+    // hovered and selected ("flag#12").
+    const SoftBodies& soft = e.softBodies();
+    const auto named = [&soft](std::optional<std::uint32_t> i) {
+        return i ? nlohmann::json(particleName(soft, *i)) : nlohmann::json();
+    };
+    j["soft"] = nlohmann::json::array();
+    for (std::size_t m = 0; m < soft.meshes.size(); ++m) {
+        const SoftMesh& mesh = soft.meshes[m];
+        const Bounds box = meshBounds(soft, m);
+        nlohmann::json row;
+        row["name"] = mesh.name;
+        row["kind"] = mesh.kind == SoftMesh::Kind::Cloth ? "cloth" : mesh.kind == SoftMesh::Kind::Rope ? "rope" : "soft body";
+        row["method"] = mesh.method == SoftMethod::PBD ? "PBD" : "XPBD";
+        row["particles"] = mesh.count;
+        row["triangles"] = mesh.triangles.size();
+        row["constraints"] = constraintCount(soft, m);
+        row["largest_stretch"] = meshStretch(soft, m);
+        row["volume_ratio"] = mesh.kind == SoftMesh::Kind::SoftBody ? nlohmann::json(soft.volumeRatio(m)) : nlohmann::json();
+        row["min"] = {box.min().x(), box.min().y(), box.min().z()};
+        row["max"] = {box.max().x(), box.max().y(), box.max().z()};
+        j["soft"].push_back(row);
+    }
+    j["hovered_particle"] = named(hoveredParticle_);
+    j["selected_particle"] = named(session_.selectedParticle());
+    if (const auto i = session_.selectedParticle()) {
+        j["selected_particle_position"] = {soft.x[*i].x(), soft.x[*i].y(), soft.x[*i].z()};
+        j["selected_particle_velocity"] = {soft.v[*i].x(), soft.v[*i].y(), soft.v[*i].z()};
+    }
+    j["links_shown"] = softWire_;
     j["help"] = help_;
     j["panel"] = panel_;
     j["recording"] = !recording_.empty();
     j["error"] = session_.error();
     j["missing_hooks"] = e.missingHooks();
-    // Where each moving body is drawn, the part of the window the side panel leaves free and the
-    // overlay's box in it (pixels, y down), and for how long the scene's view hint means to frame
-    // the bodies' motion.
+    // Where each moving body (and soft mesh) is drawn, the part of the window the side panel leaves
+    // free and the overlay's box in it (pixels, y down), and for how long the scene's view hint
+    // means to frame the bodies' motion.
     std::vector<PixelBox> boxes;
-    j["view"]["behind_eye"] = !camera_.movingBodies(e.bodies(), sceneWidth(), height_, boxes);
+    // Each soft mesh with a particle free to move counts as a moving body (after the bodies).
+    const bool bodiesInFront = camera_.movingBodies(e.bodies(), sceneWidth(), height_, boxes);
+    const bool meshesInFront = movingMeshes(camera_, soft, sceneWidth(), height_, boxes);
+    j["view"]["behind_eye"] = !(bodiesInFront && meshesInFront);
     j["view"]["bodies"] = nlohmann::json::array();
     for (const PixelBox& b : boxes) j["view"]["bodies"].push_back({b.left, b.top, b.right, b.bottom});
     j["view"]["free"] = {0, 0, sceneWidth(), height_};

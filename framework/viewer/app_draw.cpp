@@ -36,8 +36,11 @@ void App::display() {
     session_.frame(std::min(real, 0.25));
     const auto physicsDone = SteadyClock::now();
 
-    renderer_.draw(session_, camera_, sceneWidth(), height_, mouseMode_ == MouseMode::None ? hovered_ : std::nullopt,
-                   contacts_);
+    Renderer::Options view;
+    if (mouseMode_ == MouseMode::None) view.hovered = hovered_, view.hoveredParticle = hoveredParticle_;
+    view.contacts = contacts_;
+    view.softWire = softWire_;
+    renderer_.draw(session_, camera_, sceneWidth(), height_, view);
 
     ImGui_ImplOpenGL2_NewFrame();
     ImGui_ImplGLUT_NewFrame();  // calls ImGui::NewFrame() itself (imgui 1.86)

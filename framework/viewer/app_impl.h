@@ -7,6 +7,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <deque>
 #include <optional>
 #include <sstream>
@@ -59,6 +60,7 @@ private:
     void drawPanel();
     void drawHelp();
     void drawTooltip();
+    void drawSoftPanel();
     void runScript();
     bool scriptPoint(std::istringstream& in, int& x, int& y);
     bool savePng(const std::string& path);
@@ -76,10 +78,12 @@ private:
     int buttonsDown_ = 0;
     MouseMode mouseMode_ = MouseMode::None;
     std::optional<std::size_t> hovered_;
+    std::optional<std::uint32_t> hoveredParticle_;  ///< of the soft bodies
     bool held_[256] = {};
     bool help_ = false;
     bool panel_ = true;
     bool contacts_ = false;  ///< draw the contacts of the last step
+    bool softWire_ = false;  ///< draw the soft bodies' links over their surfaces
     std::string message_;
     SteadyClock::time_point messageUntil_;
     SteadyClock::time_point lastFrame_;

@@ -29,7 +29,8 @@ const std::vector<std::pair<std::string, std::string>>& bindings() {
         {"o", "reference ghost on / off (builds with the reference engine)"},
         {"k", "contacts of the last step on / off: points and normals"},
         {"left drag on a body", "pull it with a spring to the cursor (and select it)"},
-        {"left click", "select a body (click on nothing: clear)"},
+        {"left drag on cloth, a rope", "hold the particle and move it with the cursor (and select it)"},
+        {"left click", "select a body or particle (click on nothing: clear)"},
         {"left drag elsewhere", "orbit the camera"},
         {"right or middle drag", "pan"},
         {"mouse wheel", "zoom"},
@@ -226,8 +227,10 @@ void App::passive(int x, int y) {
     ImGui_ImplGLUT_MotionFunc(x, y);
     mouseX_ = x;
     mouseY_ = y;
-    const auto hit = pick(session_.engine().bodies(), camera_.rayThrough(x, y, sceneWidth(), height_));
-    hovered_ = hit && x < sceneWidth() ? std::optional<std::size_t>(hit->index) : std::nullopt;
+    const Session::Picked hit = session_.pickAt(camera_.rayThrough(x, y, sceneWidth(), height_));
+    const bool inScene = x < sceneWidth();
+    hovered_ = inScene ? hit.body : std::nullopt;
+    hoveredParticle_ = inScene ? hit.particle : std::nullopt;
 }
 
 void App::wheel(int wheelNumber, int direction, int x, int y) {
@@ -242,10 +245,13 @@ bool App::scriptPoint(std::istringstream& in, int& x, int& y) {
     std::string first;
     if (!(in >> first)) return false;
     if (first[0] == '@') {
+        // @name: a body; @mesh#k: the k-th particle of a cloth, rope or soft body.
+        const auto particle = particleByName(session_.engine().softBodies(), first.substr(1));
         try {
-            const Body& b = session_.engine().body(first.substr(1));
+            const Vec3 at = particle ? session_.engine().softBodies().x[*particle]
+                                     : session_.engine().body(first.substr(1)).position;
             double px, py;
-            if (!camera_.project(b.position, sceneWidth(), height_, px, py)) return false;
+            if (!camera_.project(at, sceneWidth(), height_, px, py)) return false;
             x = static_cast<int>(std::lround(px));
             y = static_cast<int>(std::lround(py));
             return true;
@@ -314,7 +320,8 @@ void App::runScript() {
             if (ok) wheel(0, dir == "up" ? 1 : -1, x, y);
         } else if (verb == "set") {
             // What the panel's widgets set: "set restitution 0.3" (of the selected body),
-            // "set contact-iterations 4", "set speed 6", "set stage impulses off".
+            // "set contact-iterations 4", "set constraint-iterations 20", "set speed 6",
+            // "set stage impulses off", "set links on" (the soft bodies' wire view).
             std::string what, value;
             in >> what >> value;
             ok = !value.empty();
@@ -322,6 +329,10 @@ void App::runScript() {
                 session_.setRestitution(*session_.selected(), std::atof(value.c_str()));
             } else if (ok && what == "contact-iterations") {
                 session_.setContactIterations(std::atoi(value.c_str()));
+            } else if (ok && what == "constraint-iterations") {
+                session_.setConstraintIterations(std::atoi(value.c_str()));
+            } else if (ok && what == "links" && (value == "on" || value == "off")) {
+                softWire_ = value == "on";
             } else if (ok && what == "speed") {
                 // The panel's slider: simulated seconds per real second.
                 char* end = nullptr;

@@ -37,10 +37,10 @@ void App::drawOverlay() {
     ImGui::Text("t = %.2f s   step %zu   h = %s s x %d   speed x%s%s", e.time(), e.stepCount(),
                 formatNumber(session_.tick()).c_str(), session_.substeps(), formatNumber(session_.speed()).c_str(),
                 session_.paused() ? "   PAUSED" : "");
-    // Gravity acts only through its stage: a scene without it (spinning boxes in space) says so.
-    const char* gravity = !e.stageActive(Stage::ConstantAcceleration) ? "not applied"
-                          : session_.gravityOn()                      ? "on"
-                                                                      : "off";
+    // Gravity acts only through its stage (on particles, through their prediction): a scene
+    // without it (spinning boxes in space) says so.
+    const bool applied = e.stageActive(Stage::ConstantAcceleration) || e.stageActive(Stage::SoftPredict);
+    const char* gravity = !applied ? "not applied" : session_.gravityOn() ? "on" : "off";
     ImGui::Text("%s   stages: %s   gravity %s   %.0f fps", integratorName(e.integratorKind()),
                 e.requiredStages().names().c_str(), gravity, ImGui::GetIO().Framerate);
     // Without the rotation stage a box keeps its orientation through every contact: a box balanced
@@ -61,10 +61,9 @@ void App::drawOverlay() {
         ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.3f, 1.0f), "%s", session_.error().c_str());
     }
     if (session_.ghostOn()) {
-        std::size_t worst = 0;
+        std::string worst;
         const double d = session_.ghostDifference(&worst);
-        ImGui::Text("reference ghost: largest difference %.4g m (%s)", d,
-                    worst < e.bodies().size() ? e.bodies()[worst].name.c_str() : "-");
+        ImGui::Text("reference ghost: largest difference %.4g m (%s)", d, worst.empty() ? "-" : worst.c_str());
     }
     if (!recording_.empty() && options_.frames == 0)
         ImGui::TextColored(ImVec4(1.0f, 0.2f, 0.2f, 1.0f), "REC %d frames", recorded_);
@@ -195,6 +194,8 @@ void App::drawPanel() {
         if (ImGui::IsItemHovered()) ImGui::SetTooltip("sweeps over the contacts per step, for impulses and overlaps");
     }
 
+    drawSoftPanel();
+
     if (ImGui::CollapsingHeader("Selected body", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (const Body* b = session_.selectedBody()) {
             ImGui::Text("%s (%s%s)", b->name.c_str(), shapeName(b->shape), b->isStatic() ? ", static" : "");
@@ -269,6 +270,56 @@ void App::drawPanel() {
     ImGui::End();
 }
 
+void App::drawSoftPanel() {
+    const PhysicsEngine& e = session_.engine();
+    const SoftBodies& soft = e.softBodies();
+    if (soft.meshes.empty() || !ImGui::CollapsingHeader("Soft bodies", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    static const char* const kinds[] = {"cloth", "rope", "soft body"};
+    for (std::size_t m = 0; m < soft.meshes.size(); ++m) {
+        const SoftMesh& mesh = soft.meshes[m];
+        ImGui::Text("%s (%s, %s)", mesh.name.c_str(), kinds[static_cast<int>(mesh.kind)],
+                    mesh.method == SoftMethod::PBD ? "PBD" : "XPBD");
+        ImGui::Indent();
+        ImGui::Text("%u particles, %zu constraints", mesh.count, constraintCount(soft, m));
+        if (mesh.kind == SoftMesh::Kind::SoftBody) {
+            ImGui::Text("largest stretch %.3g %%, volume %.4g %%", 100.0 * meshStretch(soft, m),
+                        100.0 * soft.volumeRatio(m));
+        } else {
+            ImGui::Text("largest stretch %.3g %%", 100.0 * meshStretch(soft, m));
+        }
+        if (ImGui::IsItemHovered()) {
+            ImGui::SetTooltip("(length - rest) / rest over its %s%s",
+                              mesh.kind == SoftMesh::Kind::Cloth  ? "grid's edges"
+                              : mesh.kind == SoftMesh::Kind::Rope ? "segments"
+                                                                  : "edges",
+                              mesh.kind == SoftMesh::Kind::SoftBody
+                                  ? ";\nvolume: its tetrahedra's over their rest volume"
+                                  : "");
+        }
+        ImGui::Unindent();
+    }
+    int iterations = e.constraintIterations();
+    if (ImGui::SliderInt("iterations##soft", &iterations, 1, Session::kMaxConstraintIterations, "%d",
+                         ImGuiSliderFlags_Logarithmic)) {
+        session_.setConstraintIterations(iterations);
+    }
+    if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip(
+            "projection sweeps per step over every constraint: a PBD mesh grows stiffer with more,\n"
+            "an XPBD mesh keeps its compliance and only converges closer");
+    }
+    ImGui::Checkbox("show links", &softWire_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("the distance constraints: edges dark, shear blue, bending green");
+    if (const auto i = session_.selectedParticle()) {
+        ImGui::Text("particle %s%s", particleName(soft, *i).c_str(), soft.w[*i] == 0.0 ? " (pinned)" : "");
+        ImGui::Text("mass %.4g kg", soft.mass[*i]);
+        ImGui::Text("position %s m", vec(soft.x[*i]).c_str());
+        ImGui::Text("velocity %s m/s", vec(soft.v[*i]).c_str());
+    } else {
+        ImGui::TextDisabled("drag a particle with the mouse");
+    }
+}
+
 void App::drawHelp() {
     ImGui::SetNextWindowPos(ImVec2(width_ * 0.5f, height_ * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
     ImGui::Begin("Keys and mouse", &help_, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
@@ -286,7 +337,19 @@ void App::drawHelp() {
 }
 
 void App::drawTooltip() {
-    if (!hovered_ || mouseMode_ != MouseMode::None || ImGui::GetIO().WantCaptureMouse) return;
+    if (mouseMode_ != MouseMode::None || ImGui::GetIO().WantCaptureMouse) return;
+    const SoftBodies& soft = session_.engine().softBodies();
+    if (hoveredParticle_ && *hoveredParticle_ < soft.x.size()) {
+        const std::uint32_t i = *hoveredParticle_;
+        ImGui::BeginTooltip();
+        ImGui::Text("%s%s", particleName(soft, i).c_str(), soft.w[i] == 0.0 ? " (pinned)" : "");
+        ImGui::Text("mass %.4g kg", soft.mass[i]);
+        ImGui::Text("x %s m", vec(soft.x[i]).c_str());
+        ImGui::Text("v %s m/s", vec(soft.v[i]).c_str());
+        ImGui::EndTooltip();
+        return;
+    }
+    if (!hovered_) return;
     const auto& bodies = session_.engine().bodies();
     if (*hovered_ >= bodies.size()) return;
     const Body& b = bodies[*hovered_];

@@ -3,7 +3,9 @@
 namespace gpl::viewer {
 
 std::size_t History::bytesOf(const PhysicsEngine::State& s) {
-    std::size_t n = sizeof(s) + s.previousPositions.capacity() * sizeof(Vec3);
+    std::size_t n = sizeof(s) + (s.previousPositions.capacity() + s.particlePositions.capacity() +
+                                 s.particleVelocities.capacity()) * sizeof(Vec3) +
+                    s.particleInverseMasses.capacity() * sizeof(double);
     for (const Body& b : s.bodies) n += sizeof(Body) + b.name.capacity();
     return n;
 }

@@ -17,6 +17,7 @@ public:
         engine_.setGravity(gpl::Vec3(s.gravity[0], s.gravity[1], s.gravity[2]));
         engine_.setIntegratorKind(gpl::integratorFromId(s.integrator));
         engine_.setContactIterations(s.contactIterations);
+        engine_.setConstraintIterations(s.constraintIterations);
         // gpl::load() keeps which stages are switched off: set every one.
         for (std::size_t i = 0; i < gpl::kStageCount; ++i) {
             const bool off = std::count(s.disabledStages.begin(), s.disabledStages.end(), static_cast<int>(i)) > 0;
@@ -34,6 +35,11 @@ public:
             const auto& q = b.orientation;
             out.push_back({b.position.x(), b.position.y(), b.position.z(), q.w(), q.x(), q.y(), q.z()});
         }
+        return out;
+    }
+    std::vector<std::array<double, 3>> particles() const override {
+        std::vector<std::array<double, 3>> out;
+        for (const gpl::Vec3& x : engine_.softBodies().x) out.push_back({x.x(), x.y(), x.z()});
         return out;
     }
 

@@ -20,6 +20,7 @@ public:
         std::array<double, 3> gravity{};  ///< m/s^2
         std::string integrator;           ///< its id, as gpl::integratorId() spells it
         int contactIterations = 10;       ///< sweeps over the contacts per step
+        int constraintIterations = 4;     ///< projection sweeps per step (rods, soft bodies)
         std::vector<int> disabledStages;  ///< gpl::Stage values switched off
         std::vector<double> restitution;  ///< per body, in the scene's order (0..1)
     };
@@ -28,6 +29,8 @@ public:
     virtual void step() = 0;
     /// Position (m) and orientation (w, x, y, z) of every body, in the scene's order.
     virtual std::vector<std::array<double, 7>> poses() const = 0;
+    /// Position (m) of every particle of the cloth, ropes and soft bodies, in the scene's order.
+    virtual std::vector<std::array<double, 3>> particles() const = 0;
 };
 
 /// The reference world, or nullptr when this build has no solutions (a student release).

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "scene_shapes.h"
+#include "soft_shapes.h"
 
 namespace gpl::viewer {
 namespace {
@@ -154,8 +155,17 @@ void Renderer::append(Batch& batch, const Body& b, const std::uint8_t rgba[4], c
     }
 }
 
-void Renderer::draw(const Session& session, const Camera& camera, int width, int height,
-                    std::optional<std::size_t> hovered, bool showContacts) {
+void Renderer::appendBall(Batch& batch, const Vec3& centre, double radius, const std::uint8_t rgba[4],
+                          int detail) const {
+    const Mesh& m = sphere_[std::clamp(detail, 0, 2)];
+    const auto base = static_cast<std::uint32_t>(batch.positions.size() / 3);
+    for (std::size_t k = 0; k < m.vertices.size(); ++k) batch.add(centre + radius * m.vertices[k], m.normals[k], rgba);
+    for (std::uint32_t i : m.indices) batch.indices.push_back(base + i);
+}
+
+void Renderer::draw(const Session& session, const Camera& camera, int width, int height, const Options& options) {
+    const std::optional<std::size_t> hovered = options.hovered;
+    const bool showContacts = options.contacts;
     const auto& bodies = session.engine().bodies();
     glViewport(0, 0, width, height);
     glClearColor(kSky[0], kSky[1], kSky[2], kSky[3]);
@@ -250,6 +260,22 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         for (const Vec3& v : disc_.vertices) shadows_.add(centre + grow * size.cwiseProduct(v), Vec3::UnitY(), rgba);
         for (std::uint32_t i : disc_.indices) shadows_.indices.push_back(base + i);
     }
+    // A soft body's shadow as a box's: an ellipse as wide as the body (cloth and ropes cast none).
+    const SoftBodies& soft = session.engine().softBodies();
+    for (std::size_t m = 0; hasFloor && m < soft.meshes.size(); ++m) {
+        if (soft.meshes[m].kind != SoftMesh::Kind::SoftBody) continue;
+        const Bounds box = meshBounds(soft, m);
+        const double above = box.center().y() - ground;
+        if (box.isEmpty() || above < 0.0 || above > kShadowHeight) continue;
+        const Vec3 size = 0.5 * box.diagonal();
+        const double grow = 1.0 + 0.02 * above;
+        const std::uint8_t rgba[4] = {25, 25, 38,
+                                      static_cast<std::uint8_t>(115 * std::clamp(1.0 - above / 40.0, 0.1, 1.0))};
+        const Vec3 centre(box.center().x(), ground + 0.006, box.center().z());
+        const auto base = static_cast<std::uint32_t>(shadows_.positions.size() / 3);
+        for (const Vec3& v : disc_.vertices) shadows_.add(centre + grow * size.cwiseProduct(v), Vec3::UnitY(), rgba);
+        for (std::uint32_t i : disc_.indices) shadows_.indices.push_back(base + i);
+    }
     glEnable(GL_BLEND);
     glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
     glDepthMask(GL_FALSE);
@@ -269,6 +295,7 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         append(solid_, bodies[i], rgba, camera, height);
     }
     solid_.draw(GL_TRIANGLES);
+    drawSoftBodies(session, options);
 
     // Springs (green), rods and chain links (dark grey), the container (a wire sphere).
     glDisable(GL_LIGHTING);
@@ -389,6 +416,7 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         translucent_.draw(GL_TRIANGLES);
         glDepthMask(GL_TRUE);
         glDisable(GL_BLEND);
+        drawSoftGhost(session);
     }
 
     // Contacts of the last step over everything: a dot at every point, and the normal (from the

@@ -4,7 +4,8 @@
 // scene, blob shadows and fog as depth cues, static bodies in grey and movable ones in colour,
 // springs, rods and ropes, the selection, the drag spring, the reference ghost and, on request, the
 // contacts. Bodies are batched into one vertex array per frame: a thousand bodies cost a few draw
-// calls, not thousands.
+// calls, not thousands. Cloth, ropes and soft bodies (renderer_soft.cpp) are a vertex array per
+// mesh: a cloth a lit surface, both sides, a soft body its outer surface, a rope a chain of beads.
 #pragma once
 
 #include <cstdint>
@@ -19,9 +20,15 @@ namespace gpl::viewer {
 class Renderer {
 public:
     Renderer();
+    /// What is drawn besides the scene.
+    struct Options {
+        std::optional<std::size_t> hovered;            ///< the body under the cursor, drawn lighter
+        std::optional<std::uint32_t> hoveredParticle;  ///< the particle under the cursor, marked
+        bool contacts = false;                         ///< the contacts of the last step
+        bool softWire = false;                         ///< the soft bodies' links over their surfaces
+    };
     /// Draws into the viewport (0, 0, width, height) of the window: the part the side panel leaves.
-    void draw(const Session& session, const Camera& camera, int width, int height, std::optional<std::size_t> hovered,
-              bool showContacts);
+    void draw(const Session& session, const Camera& camera, int width, int height, const Options& options);
 
     /// Indexed vertices (llvmpipe shades each vertex once however many triangles share it).
     struct Mesh {
@@ -42,11 +49,23 @@ private:
     /// Appends a sphere or a box to the batch, turned as the body is; the sphere's detail follows its
     /// size on screen.
     void append(Batch& batch, const Body& body, const std::uint8_t rgba[4], const Camera& camera, int height) const;
+    /// Appends a ball of this centre and radius (m), from the sphere mesh of this detail (0 fine .. 2 coarse).
+    void appendBall(Batch& batch, const Vec3& centre, double radius, const std::uint8_t rgba[4], int detail) const;
+    /// Appends one mesh's surface (a cloth's or a soft body's) or a rope's beads and tube, at the
+    /// particle positions x.
+    void appendSoftMesh(Batch& batch, const SoftBodies& soft, std::size_t mesh, const std::vector<Vec3>& x,
+                        const std::uint8_t rgba[4]);
+    /// The soft bodies: each mesh's surface or chain, lit; its links on request; pinned, hovered and
+    /// selected particles marked; the drag's line to the cursor.
+    void drawSoftBodies(const Session& session, const Options& options);
+    /// The reference ghost's soft bodies, translucent.
+    void drawSoftGhost(const Session& session);
 
     Mesh sphere_[3];  ///< unit spheres with marked octants, fine to coarse
     Mesh cube_;       ///< the cube [-1, 1]^3
     Mesh disc_;       ///< unit disc in the x-z plane
     Batch solid_, translucent_, shadows_, lines_, points_;
+    std::vector<Vec3> normals_;  ///< a soft mesh's, per particle
 };
 
 }  // namespace gpl::viewer

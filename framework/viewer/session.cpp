@@ -25,6 +25,7 @@ void Session::load(const Scene& scene) {
     history_.clear();
     clock_.reset();
     selected_.reset();
+    selectedParticle_.reset();
     drag_.reset();
     error_.clear();
     edited_ = false;
@@ -47,21 +48,44 @@ void Session::tickOnce() {
     history_.push(engine_.state());
     try {
         for (int i = 0; i < substeps_; ++i) {
-            if (drag_) {
+            if (drag_ && !drag_->particle) {
                 // A critically damped spring to the cursor (omega = 12 rad/s), whatever the mass.
                 Body& b = engine_.bodies()[drag_->index];
                 const double w = 12.0, h = engine_.timeStep();
                 b.velocity += h * (w * w * (drag_->target - b.position) - 2.0 * w * b.velocity);
             }
-            engine_.step();
+            stepEngine();
             if (ghostOn()) reference_->step();
         }
     } catch (const std::exception& e) {
         error_ = e.what();
         paused_ = true;
     }
-    if (ghostOn()) ghostPoses_ = reference_->poses();
+    if (ghostOn()) takeGhostState();
     energies_.push(engine_.kineticEnergy(), engine_.potentialEnergy());
+}
+
+void Session::stepEngine() {
+    if (!drag_ || !drag_->particle) {
+        engine_.step();
+        return;
+    }
+    // The particle is pinned for the step alone, so that no state the history keeps holds it pinned.
+    SoftBodies& soft = engine_.softBodies();
+    const auto i = static_cast<std::uint32_t>(drag_->index);
+    const double h = engine_.timeStep(), w = soft.w[i];
+    const Vec3 to = soft.x[i] + (1.0 - std::exp(-kParticleDragRate * h)) * (drag_->target - soft.x[i]);
+    drag_->particleVelocity = (to - soft.x[i]) / h;
+    soft.x[i] = soft.p[i] = to;
+    soft.w[i] = 0.0;
+    try {
+        engine_.step();
+    } catch (...) {
+        soft.w[i] = w;
+        throw;
+    }
+    soft.w[i] = w;
+    soft.v[i] = w > 0.0 ? drag_->particleVelocity : Vec3::Zero();
 }
 
 bool Session::stepBack() {
@@ -69,6 +93,7 @@ bool Session::stepBack() {
     if (!history_.pop(s)) return false;
     engine_.restore(s);
     if (selected_ && *selected_ >= engine_.bodies().size()) selected_.reset();
+    if (selectedParticle_ && *selectedParticle_ >= engine_.softBodies().x.size()) selectedParticle_.reset();
     drag_.reset();
     error_.clear();
     // The ghost cannot step back; it follows again after a reset.
@@ -114,6 +139,11 @@ void Session::setContactIterations(int n) {
     settingsChanged();
 }
 
+void Session::setConstraintIterations(int n) {
+    engine_.setConstraintIterations(std::clamp(n, 1, kMaxConstraintIterations));
+    settingsChanged();
+}
+
 void Session::setRestitution(std::size_t index, double e) {
     engine_.bodies().at(index).restitution = std::clamp(e, 0.0, 1.0);
     settingsChanged();
@@ -136,18 +166,36 @@ void Session::settingsChanged() {
     }
 }
 
+Session::Picked Session::pickAt(const Ray& ray) const {
+    const auto body = pick(engine_.bodies(), ray);
+    const auto particle = pickParticle(engine_.softBodies(), ray);
+    if (particle && (!body || particle->distance < body->distance)) return {std::nullopt, particle->particle};
+    if (body) return {body->index, std::nullopt};
+    return {};
+}
+
 std::optional<std::size_t> Session::pickAndSelect(const Ray& ray) {
-    const auto hit = pick(engine_.bodies(), ray);
-    selected_ = hit ? std::optional<std::size_t>(hit->index) : std::nullopt;
+    const Picked hit = pickAt(ray);
+    selected_ = hit.body;
+    selectedParticle_ = hit.particle;
     return selected_;
 }
 
 bool Session::beginDrag(const Ray& ray, const Vec3& viewDirection) {
-    const auto hit = pick(engine_.bodies(), ray);
-    if (!hit || engine_.bodies()[hit->index].isStatic()) return false;
-    selected_ = hit->index;
-    const Vec3 grab = ray.origin + hit->distance * ray.direction;
-    drag_ = Drag{hit->index, grab, grab, viewDirection.normalized()};
+    const Picked hit = pickAt(ray);
+    if (hit.particle) {
+        selectParticle(hit.particle);
+        const Vec3 at = engine_.softBodies().x[*hit.particle];
+        drag_ = Drag{*hit.particle, at, at, viewDirection.normalized(), true};
+        edited_ = true;
+        return true;
+    }
+    if (!hit.body) return false;
+    const auto distance = intersect(engine_.bodies()[*hit.body], ray);
+    if (!distance || engine_.bodies()[*hit.body].isStatic()) return false;
+    select(hit.body);
+    const Vec3 grab = ray.origin + *distance * ray.direction;
+    drag_ = Drag{*hit.body, grab, grab, viewDirection.normalized()};
     edited_ = true;
     return true;
 }
@@ -199,6 +247,7 @@ void Session::setGhost(bool on) {
 
 void Session::restartGhost() {
     ghostPoses_.clear();
+    ghostParticles_.clear();
     if (!ghostOn_ || !reference_) return;
     try {
         gplref::ReferenceWorld::Settings settings;
@@ -207,19 +256,29 @@ void Session::restartGhost() {
         settings.gravity = {g.x(), g.y(), g.z()};
         settings.integrator = integratorId(engine_.integratorKind());
         settings.contactIterations = engine_.contactIterations();
+        settings.constraintIterations = engine_.constraintIterations();
         for (std::size_t i = 0; i < kStageCount; ++i) {
             if (!engine_.stageEnabled(static_cast<Stage>(i))) settings.disabledStages.push_back(static_cast<int>(i));
         }
         for (const Body& b : engine_.bodies()) settings.restitution.push_back(b.restitution);
         reference_->load(scene_->name, settings);
-        ghostPoses_ = reference_->poses();
+        takeGhostState();
     } catch (const std::exception& e) {
         error_ = std::string("reference ghost: ") + e.what();
         ghostOn_ = false;
     }
 }
 
-double Session::ghostDifference(std::size_t* index) const {
+void Session::takeGhostState() {
+    ghostPoses_ = reference_->poses();
+    const auto particles = reference_->particles();
+    ghostParticles_.resize(particles.size());
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+        ghostParticles_[i] = Vec3(particles[i][0], particles[i][1], particles[i][2]);
+    }
+}
+
+double Session::ghostDifference(std::string* name) const {
     double worst = 0.0;
     if (!ghostOn()) return worst;
     const auto& bodies = engine_.bodies();
@@ -228,7 +287,15 @@ double Session::ghostDifference(std::size_t* index) const {
         const double d = (bodies[i].position - Vec3(p[0], p[1], p[2])).norm();
         if (d >= worst) {
             worst = d;
-            if (index) *index = i;
+            if (name) *name = bodies[i].name;
+        }
+    }
+    const SoftBodies& soft = engine_.softBodies();
+    for (std::size_t i = 0; i < std::min(soft.x.size(), ghostParticles_.size()); ++i) {
+        const double d = (soft.x[i] - ghostParticles_[i]).norm();
+        if (d > worst) {
+            worst = d;
+            if (name) *name = particleName(soft, static_cast<std::uint32_t>(i));
         }
     }
     return worst;

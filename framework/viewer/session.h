@@ -1,9 +1,11 @@
 // What the viewer shows and changes, without any GL: the engine on a scene, time control
 // (pause, step, step back, speed, substeps), interaction (select, drag, shoot, add, remove,
-// gravity), energy plots and the reference ghost. Keys and mouse map onto these calls.
+// gravity; bodies and the particles of cloth, ropes and soft bodies), energy plots and the
+// reference ghost. Keys and mouse map onto these calls.
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -17,6 +19,7 @@
 #include "picking.h"
 #include "reference.h"
 #include "scene_shapes.h"
+#include "soft_shapes.h"
 
 namespace gpl::viewer {
 
@@ -78,24 +81,45 @@ public:
     /// Sweeps over the contacts per step, clamped to 1 .. kMaxContactIterations.
     void setContactIterations(int n);
     static constexpr int kMaxContactIterations = 100;
+    /// Projection sweeps per step of the soft bodies' constraints (and of rods), the engine's
+    /// constraintIterations(), clamped to 1 .. kMaxConstraintIterations.
+    void setConstraintIterations(int n);
+    static constexpr int kMaxConstraintIterations = 200;
     /// Sets a body's coefficient of restitution, clamped to 0 .. 1; it acts from the next step on.
     /// Like every edit, a step back to a state before it undoes it.
     void setRestitution(std::size_t index, double e);
     void toggleGravity();
     void setGravity(const Vec3& g);  ///< m/s^2; throws std::invalid_argument when not finite
     bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
-    void select(std::optional<std::size_t> index) { selected_ = index; }
+    /// Selects a body (and no particle).
+    void select(std::optional<std::size_t> index) { selected_ = index, selectedParticle_.reset(); }
     std::optional<std::size_t> selected() const { return selected_; }
     const Body* selectedBody() const { return selected_ ? &engine_.bodies()[*selected_] : nullptr; }
-    /// Picks the body under the ray (selects it, or clears the selection when none).
+    /// Selects a particle of the soft bodies (and no body).
+    void selectParticle(std::optional<std::uint32_t> particle) { selectedParticle_ = particle, selected_.reset(); }
+    std::optional<std::uint32_t> selectedParticle() const { return selectedParticle_; }
+    /// What a ray from the camera hits first: a body or a particle of the soft bodies.
+    struct Picked {
+        std::optional<std::size_t> body;
+        std::optional<std::uint32_t> particle;
+    };
+    Picked pickAt(const Ray& ray) const;
+    /// Picks the body or particle under the ray and selects it (or clears the selection when
+    /// none); returns the body picked.
     std::optional<std::size_t> pickAndSelect(const Ray& ray);
-    /// Starts dragging the body under the ray: a spring pulls it toward the cursor, which moves
-    /// on the plane through the grab point facing the camera.
+    /// Starts dragging what is under the ray, and selects it. A body: a spring pulls it toward the
+    /// cursor, which moves on the plane through the grab point facing the camera. A particle: it is
+    /// held (pinned) while dragged, each step moving it and its predicted position a share of the
+    /// way to the cursor (on the plane through it facing the camera), so its neighbours follow; let
+    /// go, it keeps the velocity of its last step (a particle pinned by the scene stays pinned
+    /// where it is left). Static bodies cannot be dragged.
     bool beginDrag(const Ray& ray, const Vec3& viewDirection);
     void dragTo(const Ray& ray);
     void endDrag() { drag_.reset(); }
     bool dragging() const { return drag_.has_value(); }
     std::optional<Vec3> dragTarget() const { return drag_ ? std::optional<Vec3>(drag_->target) : std::nullopt; }
+    /// Per second, the share of the way to the cursor a dragged particle moves: 1 - exp(-rate h) per step.
+    static constexpr double kParticleDragRate = 20.0;
     void shoot(const Ray& from, double speed);  ///< a 1 kg sphere from the camera (m/s)
     void addBox(const Vec3& at);                ///< a 1 m box dropped at a point
     bool removeSelected();
@@ -117,20 +141,28 @@ public:
     bool ghostOn() const { return ghostWanted() && !edited_; }
     /// Ghost poses: position (m) and orientation (w, x, y, z) per body, in the scene's order.
     const std::vector<std::array<double, 7>>& ghostPoses() const { return ghostPoses_; }
-    /// Largest distance between a body and its ghost (m), and the body's index.
-    double ghostDifference(std::size_t* index = nullptr) const;
+    /// The ghost's particles (m), in the scene's order.
+    const std::vector<Vec3>& ghostParticles() const { return ghostParticles_; }
+    /// Largest distance between a body or particle and its ghost (m), and the body's or the
+    /// particle's name ("flag#12").
+    double ghostDifference(std::string* name = nullptr) const;
 
 private:
     void tickOnce();
+    /// One engine step; a dragged particle moved toward the cursor and held through it.
+    void stepEngine();
+    void takeGhostState();
     void restartGhost();
     void settingsChanged();
     std::string uniqueName(const std::string& stem) const;
 
     struct Drag {
-        std::size_t index;
-        Vec3 target;       ///< m, where the cursor is in the world
-        Vec3 planePoint;   ///< m
-        Vec3 planeNormal;  ///< unit
+        std::size_t index;                      ///< the body's, or the particle's when `particle`
+        Vec3 target;                            ///< m, where the cursor is in the world
+        Vec3 planePoint;                        ///< m
+        Vec3 planeNormal;                       ///< unit
+        bool particle = false;
+        Vec3 particleVelocity = Vec3::Zero();  ///< m/s, of its last step
     };
 
     const Scene* scene_;
@@ -140,9 +172,11 @@ private:
     FixedStepClock clock_;
     EnergySeries energies_;
     std::optional<std::size_t> selected_;
+    std::optional<std::uint32_t> selectedParticle_;
     std::optional<Drag> drag_;
     std::unique_ptr<gplref::ReferenceWorld> reference_;
     std::vector<std::array<double, 7>> ghostPoses_;
+    std::vector<Vec3> ghostParticles_;
     std::string error_;
     double tick_ = kDefaultTimeStep;  ///< s
     double speed_ = 1.0;

@@ -281,6 +281,75 @@ class Window(unittest.TestCase):
                     cloth = count_pixels(b, lambda p: p[0] < 90 and p[1] > p[0] + 40 and p[2] > p[0] + 15)
                     self.assertGreater(cloth, 20000, "the enclosed floor is drawn in the walls' green")
 
+    def test_every_soft_body_scene_draws_its_meshes_and_the_ghost_agrees(self):
+        # Worksheet 8's scenes by name, each a moment after its start: the meshes drawn in their
+        # colours; then from the start again with the reference ghost ('o'), after as long: the
+        # panel's rows, the reference agreeing with itself.
+        scenes = {"flag": ["flag"], "cloth-on-sphere": ["cloth"], "cloth-on-table": ["cloth"], "soft-cube": ["cube"],
+                  "soft-ball": ["ball"], "rope-pbd-xpbd": ["rope-pbd", "rope-xpbd"],
+                  "cloth-stretchy-stiff": ["stretchy", "stiff"]}
+        for scene, meshes in scenes.items():
+            with self.subTest(scene=scene):
+                shot = self.tmp / f"{scene}.png"
+                rc, states, log = viewer(SOLUTIONS, scene, "--script", f"wait 40; shot {shot}; wait 1; key o; wait 40; dump; quit")
+                self.assertEqual(rc, 0, log)
+                state = states[0]
+                self.assertEqual(state["error"], "")
+                self.assertEqual([m["name"] for m in state["soft"]], meshes)
+                for m in state["soft"]:
+                    self.assertIn(m["method"], ("PBD", "XPBD"))
+                    self.assertGreater(m["particles"], 50)
+                    self.assertGreater(m["constraints"], m["particles"] // 2, "a rope has one per segment")
+                    self.assertEqual(m["volume_ratio"] is None, m["kind"] != "soft body")
+                self.assertTrue(state["ghost"])
+                self.assertEqual(state["ghost_difference"], 0.0, "the reference agrees with itself")
+                # The first mesh's colour, crimson, lit (its back paler).
+                # (A rope, the thinnest, covers about 1500 pixels; nothing else in these scenes is red.)
+                drawn = count_pixels(shot, lambda p: p[0] > max(p[1], p[2]) + 35, (0, 0, 920, 720))
+                self.assertGreater(drawn, 1000, "the first mesh is drawn")
+
+    def test_drag_a_particle_with_the_mouse(self):
+        # The flag, flat at its start, facing the camera: its free top corner (particle 29 of 30 x 20)
+        # grabbed and pulled to where its bottom row's particle 590 is: it follows, held, and the
+        # cloth with it; let go, it is no longer held.
+        shot = self.tmp / "drag.png"
+        rc, states, log = viewer(SOLUTIONS, "flag", "--paused", "--script",
+                                 "move @flag#29; wait 1; dump; down left @flag#29; move @flag#590; dump;"
+                                 f" key space; wait 40; dump; shot {shot}; wait 1; up left @flag#590; wait 5; dump; quit")
+        self.assertEqual(rc, 0, log)
+        hover, grabbed, pulled, released = states
+        self.assertEqual(hover["hovered_particle"], "flag#29")
+        self.assertEqual(grabbed["selected_particle"], "flag#29")
+        self.assertIsNone(grabbed["selected"], "a particle, not a body")
+        self.assertTrue(grabbed["dragging"])
+        self.assertFalse(released["dragging"])
+        start, end = grabbed["selected_particle_position"], pulled["selected_particle_position"]
+        self.assertLess(end[1], start[1] - 0.5, "pulled down the flag's 0.95 m towards the cursor")
+        self.assertEqual(released["selected_particle"], "flag#29")
+        self.assertGreater(not_sky_fraction(shot), 0.2)
+
+    def test_the_soft_body_panel_sets_the_iterations_and_shows_the_links(self):
+        plain, links = self.tmp / "plain.png", self.tmp / "links.png"
+        rc, states, log = viewer(SOLUTIONS, "cloth-stretchy-stiff", "--paused", "--steps", 200, "--script",
+                                 f"dump; set constraint-iterations 4; wait 1; shot {plain}; wait 1; set links on; wait 1;"
+                                 f" shot {links}; wait 1; dump; set constraint-iterations 0; dump; quit")
+        self.assertEqual(rc, 0, log)
+        scene, four, clamped = states
+        self.assertEqual(scene["constraint_iterations"], 15, "the scene's own sweeps")
+        self.assertEqual(four["constraint_iterations"], 4)
+        self.assertEqual(clamped["constraint_iterations"], 1, "at least one sweep")
+        self.assertFalse(scene["links_shown"])
+        self.assertTrue(four["links_shown"])
+        stretchy, stiff = scene["soft"]
+        self.assertGreater(stretchy["largest_stretch"], 5 * stiff["largest_stretch"], "the stretchy cloth sags long")
+        # The links over the cloths: shear blue and bending green lines where the surfaces were.
+        blue = lambda p: p[2] > 200 and p[0] < 90 and p[1] < 140
+        self.assertEqual(count_pixels(plain, blue, (0, 150, 920, 720)), 0)
+        self.assertGreater(count_pixels(links, blue, (0, 150, 920, 720)), 2000)
+        rc, _, log = viewer(SOLUTIONS, "flag", "--script", "set links maybe; quit")
+        self.assertEqual(rc, 2)
+        self.assertIn("got 'set links maybe'", log)
+
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"
         rc, states, log = viewer(SOLUTIONS, "projectile", "--script", "wait 1; key v; wait 10; key v; dump; quit",

@@ -1,5 +1,6 @@
 // The viewer's GL-free parts: camera, fixed-step clock, history, picking, the shapes drawn besides
-// the bodies (walls, ropes, contact normals) and the session that keys and mouse drive.
+// the bodies (walls, ropes, contact normals), what is drawn of cloth, ropes and soft bodies, and
+// the session that keys and mouse drive.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +11,7 @@
 #include "picking.h"
 #include "scene_shapes.h"
 #include "session.h"
+#include "soft_shapes.h"
 
 namespace gpl::viewer {
 namespace {
@@ -429,6 +431,242 @@ TEST(SceneShapes, ANormalIsAsLongAsMostOfTheSmallerBody) {
     EXPECT_DOUBLE_EQ(normalLength(c, bodies), 0.8);
     c.b = 2;
     EXPECT_DOUBLE_EQ(normalLength(c, bodies), 0.2);
+}
+
+// ---- Cloth, ropes and soft bodies (worksheet 8) ---------------------------------------------------
+
+// A cloth of nx x ny particles 0.1 m apart, spanned by u and v from origin.
+SoftBodies flatCloth(int nx, int ny, const Vec3& origin, const Vec3& u, const Vec3& v) {
+    SoftBodies soft;
+    ClothSpec c;
+    c.nx = nx, c.ny = ny, c.spacing = 0.1, c.origin = origin, c.u = u, c.v = v;
+    soft.addCloth(c);
+    return soft;
+}
+
+TEST(SoftShapes, AFlatClothsNormalsAllPointAlongItsNormal) {
+    // Triangles counter-clockwise seen from the side u x v points to: every particle's normal, on
+    // the edges and corners too, is u x v, to rounding.
+    const Vec3 u = Vec3(1.0, 2.0, 2.0) / 3.0, v = Vec3(2.0, 1.0, -2.0) / 3.0;
+    ASSERT_NEAR(u.dot(v), 0.0, 1e-15);
+    for (const auto& [uu, vv] : {std::pair{Vec3(Vec3::UnitX()), Vec3(Vec3::UnitZ())}, std::pair{u, v}}) {
+        const SoftBodies soft = flatCloth(7, 5, Vec3(0.3, 1.0, -0.2), uu, vv);
+        std::vector<Vec3> n;
+        surfaceNormals(soft.x, soft.meshes[0], n);
+        ASSERT_EQ(n.size(), 35u);
+        for (std::size_t k = 0; k < n.size(); ++k) {
+            // 1e-12: unit vectors from sums of exact products, to rounding.
+            EXPECT_LT((n[k] - uu.cross(vv)).norm(), 1e-12) << "particle " << k << ": " << n[k].transpose();
+        }
+    }
+}
+
+TEST(SoftShapes, ASoftCubesNormalsPointOutOfItsFaces) {
+    SoftBodies soft;
+    const Vec3 centre(0.2, 1.0, -0.3);
+    const double half = 0.25;
+    soft.addSoftBody(makeSoftCube("cube", centre, 2.0 * half, 4));
+    const SoftMesh& m = soft.meshes[0];
+    std::vector<Vec3> n;
+    surfaceNormals(soft.x, m, n);
+    int inside = 0, onFaces = 0;
+    for (std::uint32_t k = 0; k < m.count; ++k) {
+        const Vec3 d = soft.x[m.first + k] - centre;
+        // Which faces the particle lies on (a coordinate at +-half: one inside a face, two on an edge).
+        int faces = 0, axis = 0;
+        for (int a = 0; a < 3; ++a) {
+            if (std::abs(std::abs(d[a]) - half) < 1e-12) ++faces, axis = a;
+        }
+        if (faces == 0) {
+            EXPECT_EQ(n[k], Vec3::Zero()) << "an inner particle is on no surface triangle";
+            ++inside;
+            continue;
+        }
+        EXPECT_GT(n[k].dot(d), 0.0) << "outward at " << d.transpose();
+        if (faces == 1) {
+            // Every triangle around it lies in the face: its normal is the face's, to rounding.
+            const Vec3 face = std::copysign(1.0, d[axis]) * Vec3::Unit(axis);
+            EXPECT_LT((n[k] - face).norm(), 1e-12) << "at " << d.transpose() << ": " << n[k].transpose();
+            ++onFaces;
+        }
+    }
+    EXPECT_EQ(inside, 3 * 3 * 3);
+    EXPECT_EQ(onFaces, 6 * 3 * 3);
+}
+
+TEST(SoftShapes, ARopesTubeIsARingOfItsRadiusAroundEverySegment) {
+    const std::vector<Vec3> chain = {Vec3(0.0, 2.0, 0.0), Vec3(0.1, 1.9, 0.0), Vec3(0.1, 1.8, 0.1),
+                                     Vec3(0.0, 1.8, 0.1), Vec3(0.0, 1.8, 0.1 + 1e-9)};
+    const double radius = 0.02;
+    const int sides = 8;
+    const TriangleMesh tube = ropeTube(chain, radius, sides);
+    ASSERT_EQ(tube.vertices.size(), 4u * 2 * sides) << "two rings per segment";
+    ASSERT_EQ(tube.indices.size(), 4u * sides * 6);
+    for (std::size_t k = 0; k < tube.vertices.size(); ++k) {
+        const std::size_t segment = k / (2 * sides);
+        const Vec3 axis = (chain[segment + 1] - chain[segment]).normalized();
+        const Vec3& end = k % (2 * sides) < std::size_t(sides) ? chain[segment] : chain[segment + 1];
+        EXPECT_NEAR(tube.normals[k].norm(), 1.0, 1e-12);
+        EXPECT_NEAR(tube.normals[k].dot(axis), 0.0, 1e-9) << "across the segment";
+        EXPECT_LT((tube.vertices[k] - (end + radius * tube.normals[k])).norm(), 1e-12) << "on the ring";
+    }
+    // Counter-clockwise seen from outside: each triangle faces the way its corners' normals do.
+    for (std::size_t t = 0; t < tube.indices.size(); t += 3) {
+        const Vec3 &a = tube.vertices[tube.indices[t]], &b = tube.vertices[tube.indices[t + 1]],
+                   &c = tube.vertices[tube.indices[t + 2]];
+        EXPECT_GT((b - a).cross(c - a).dot(tube.normals[tube.indices[t]]), 0.0) << "triangle " << t / 3;
+    }
+}
+
+TEST(SoftShapes, ARayPicksTheCornerNearestWhereItFirstCrossesACloth) {
+    SoftBodies soft = flatCloth(6, 6, Vec3(0.0, 1.0, 0.0), Vec3::UnitX(), Vec3::UnitZ());
+    ClothSpec upper;
+    upper.name = "upper", upper.nx = 6, upper.ny = 6, upper.spacing = 0.1, upper.origin = Vec3(0.0, 2.0, 0.0);
+    soft.addCloth(upper);
+    // Straight down at (0.23, 0.31): the upper cloth first, 3 m below the eye; its corner (2, 3).
+    const auto down = pickParticle(soft, Ray{Vec3(0.23, 5.0, 0.31), -Vec3::UnitY()});
+    ASSERT_TRUE(down);
+    EXPECT_EQ(particleName(soft, down->particle), "upper#20");  // j nx + i = 3 * 6 + 2
+    EXPECT_NEAR(down->distance, 3.0, 1e-12);
+    // From below, the lower cloth's back: the same corner of it.
+    const auto up = pickParticle(soft, Ray{Vec3(0.23, -1.0, 0.31), Vec3::UnitY()});
+    ASSERT_TRUE(up);
+    EXPECT_EQ(particleName(soft, up->particle), "cloth#20");
+    EXPECT_NEAR(up->distance, 2.0, 1e-12);
+    EXPECT_FALSE(pickParticle(soft, Ray{Vec3(0.6, 5.0, 0.31), -Vec3::UnitY()})) << "beside the cloths";
+    // Past the corner (0.5, 0.5) by half the 1 cm radius, level with the cloths: the corner's sphere.
+    const auto corner = pickParticle(soft, Ray{Vec3(0.505, 2.0, 5.0), -Vec3::UnitZ()});
+    ASSERT_TRUE(corner);
+    EXPECT_EQ(particleName(soft, corner->particle), "upper#35");
+    EXPECT_FALSE(pickParticle(soft, Ray{Vec3(0.23, 5.0, 0.31), Vec3::UnitY()})) << "away from them";
+}
+
+TEST(SoftShapes, ARayPicksARopesParticleWithinItsBead) {
+    SoftBodies soft;
+    RopeSpec r;
+    r.segments = 10, r.start = Vec3(0.0, 2.0, 0.0), r.end = Vec3(1.0, 2.0, 0.0), r.radius = 0.01;
+    soft.addRope(r);
+    const double bead = ropeDrawRadius(soft, 0);
+    // A fifth of a segment, more than the contact radius (1e-12: the segments' lengths summed, to rounding).
+    EXPECT_NEAR(bead / (0.2 * 0.1), 1.0, 1e-12);
+    const auto hit = pickParticle(soft, Ray{Vec3(0.3 + 0.9 * bead, 2.0, 5.0), -Vec3::UnitZ()});
+    ASSERT_TRUE(hit);
+    EXPECT_EQ(particleName(soft, hit->particle), "rope#3");
+    EXPECT_FALSE(pickParticle(soft, Ray{Vec3(0.35, 2.0, 5.0), -Vec3::UnitZ()})) << "between two beads";
+    EXPECT_EQ(particleByName(soft, "rope#3"), hit->particle);
+    EXPECT_FALSE(particleByName(soft, "rope#11")) << "11 particles: 0..10";
+    EXPECT_FALSE(particleByName(soft, "rope"));
+    EXPECT_FALSE(particleByName(soft, "cord#3"));
+}
+
+TEST(SoftShapes, AMeshIsFramedAsItsParticlesSpheres) {
+    SoftBodies soft = flatCloth(3, 3, Vec3(-0.1, 4.0, -0.1), Vec3::UnitX(), Vec3::UnitZ());
+    Camera c;
+    c.lookAt(Vec3(0.0, 4.0, 0.0), 5.0);
+    std::vector<PixelBox> boxes;
+    ASSERT_TRUE(movingMeshes(c, soft, 1280, 720, boxes));
+    ASSERT_EQ(boxes.size(), 1u);
+    double x = 0, y = 0;
+    ASSERT_TRUE(c.project(Vec3(0.0, 4.0, 0.0), 1280, 720, x, y));
+    EXPECT_TRUE(boxes[0].left < x && x < boxes[0].right && boxes[0].top < y && y < boxes[0].bottom)
+        << "the cloth around the view's centre";
+    EXPECT_LT(boxes[0].right - boxes[0].left, 200.0) << "20 cm at 5 m";
+    for (double& w : soft.w) w = 0.0;
+    boxes.clear();
+    EXPECT_TRUE(movingMeshes(c, soft, 1280, 720, boxes));
+    EXPECT_TRUE(boxes.empty()) << "a mesh pinned everywhere does not move";
+}
+
+TEST(SessionSoft, ARayPicksAClothInFrontOfABodyAndTheBodyInFrontOfACloth) {
+    Session s{scenes().find("cloth-on-sphere")};
+    const Ray fromAbove{Vec3(0.01, 5.0, 0.02), -Vec3::UnitY()};
+    const Session::Picked top = s.pickAt(fromAbove);
+    ASSERT_TRUE(top.particle);
+    EXPECT_FALSE(top.body);
+    s.pickAndSelect(fromAbove);
+    EXPECT_EQ(s.selectedParticle(), top.particle);
+    EXPECT_FALSE(s.selected());
+    const Session::Picked bottom = s.pickAt(Ray{Vec3(0.01, 0.4, 3.0), -Vec3::UnitZ()});
+    EXPECT_TRUE(bottom.body) << "the ball, below the cloth";
+    EXPECT_FALSE(bottom.particle);
+}
+
+TEST(SessionSoft, ADraggedParticleIsHeldOnItsWayToTheCursorAndLeftWithItsVelocity) {
+    Session s{scenes().find("flag")};
+    SoftBodies& soft = s.engine().softBodies();
+    const std::uint32_t tip = *particleByName(soft, "flag#29");  // the free corner at the top
+    const Vec3 eye = soft.x[tip] + Vec3(0.0, 0.0, 3.0);
+    ASSERT_TRUE(s.beginDrag(Ray{eye, (soft.x[tip] - eye).normalized()}, -Vec3::UnitZ()));
+    ASSERT_EQ(s.selectedParticle(), tip);
+    EXPECT_FALSE(s.selected());
+    const Vec3 goal = soft.x[tip] + Vec3(0.3, 0.4, 0.0);
+    s.dragTo(Ray{eye, (goal - eye).normalized()});
+    ASSERT_LT((*s.dragTarget() - goal).norm(), 1e-12) << "on the plane through the particle";
+    const double w = soft.w[tip], h = s.engine().timeStep();
+    // Held through each step, the particle is where the drag put it, a share 1 - exp(-rate h) of
+    // the way closer: after n steps exp(-rate h n) of the 0.5 m is left (1e-12 relative to the 0.5 m:
+    // n moves, each exact to rounding).
+    const int n = 40;
+    for (int i = 0; i < n; ++i) s.stepOnce();
+    const double left = 0.5 * std::exp(-Session::kParticleDragRate * h * n);
+    EXPECT_NEAR((soft.x[tip] - goal).norm(), left, 0.5 * 1e-12);
+    EXPECT_EQ(soft.w[tip], w) << "pinned only while a step runs: the state between steps keeps its mass";
+    const Vec3 velocity = soft.v[tip];
+    // The velocity of its last step: that step's move over h (1e-9 relative: the move, exact to
+    // 1e-12 of 0.5 m, is a few cm).
+    const double speed = left * (std::exp(Session::kParticleDragRate * h) - 1.0) / h;
+    EXPECT_NEAR(velocity.norm() / speed, 1.0, 1e-9);
+    EXPECT_TRUE(s.edited()) << "a drag stops the ghost's comparison";
+    s.endDrag();
+    EXPECT_FALSE(s.dragging());
+    EXPECT_EQ(soft.v[tip], velocity) << "let go with the velocity of its last step";
+    // A step back while dragging restores the state the history kept, with the particle free.
+    ASSERT_TRUE(s.beginDrag(Ray{eye, (soft.x[tip] - eye).normalized()}, -Vec3::UnitZ()));
+    s.stepOnce();
+    ASSERT_TRUE(s.stepBack());
+    EXPECT_FALSE(s.dragging());
+    EXPECT_EQ(soft.w[tip], w);
+    const std::uint32_t pin = *particleByName(soft, "flag#0");
+    EXPECT_EQ(soft.w[pin], 0.0) << "the pinned corner stays pinned";
+}
+
+TEST(SessionSoft, StepBackRestoresTheParticles) {
+    Session s{scenes().find("soft-cube")};
+    for (int i = 0; i < 5; ++i) s.stepOnce();
+    const std::vector<Vec3> x = s.engine().softBodies().x, v = s.engine().softBodies().v;
+    for (int i = 0; i < 5; ++i) s.stepOnce();
+    EXPECT_NE(s.engine().softBodies().x, x);
+    for (int i = 0; i < 5; ++i) ASSERT_TRUE(s.stepBack());
+    EXPECT_EQ(s.engine().softBodies().x, x);
+    EXPECT_EQ(s.engine().softBodies().v, v);
+    // The history counts the particles' memory against its budget.
+    const PhysicsEngine::State state = s.engine().state();
+    PhysicsEngine::State bodiesOnly = state;
+    bodiesOnly.particlePositions = std::vector<Vec3>();
+    bodiesOnly.particleVelocities = std::vector<Vec3>();
+    bodiesOnly.particleInverseMasses = std::vector<double>();
+    EXPECT_GE(History::bytesOf(state) - History::bytesOf(bodiesOnly), x.size() * (2 * sizeof(Vec3) + sizeof(double)));
+}
+
+TEST(SessionSoft, TheIterationsGoThroughTheSessionAndTheGhost) {
+    Session s{scenes().find("rope-pbd-xpbd")};
+    ASSERT_TRUE(s.ghostAvailable());
+    s.setGhost(true);
+    s.setConstraintIterations(3);
+    EXPECT_EQ(s.engine().constraintIterations(), 3);
+    s.setConstraintIterations(0);
+    EXPECT_EQ(s.engine().constraintIterations(), 1) << "clamped";
+    s.setConstraintIterations(100000);
+    EXPECT_EQ(s.engine().constraintIterations(), Session::kMaxConstraintIterations);
+    s.setConstraintIterations(3);
+    for (int i = 0; i < 100; ++i) s.stepOnce();
+    ASSERT_EQ(s.ghostParticles().size(), s.engine().softBodies().x.size());
+    EXPECT_TRUE(s.ghostOn());
+    // These tests link the reference hooks: with the same iterations the ghost agrees to the bit.
+    EXPECT_EQ(s.ghostDifference(), 0.0);
+    Session other{scenes().find("rope-pbd-xpbd")};
+    for (int i = 0; i < 100; ++i) other.stepOnce();
+    EXPECT_NE(other.engine().softBodies().x, s.engine().softBodies().x) << "3 sweeps are not the scene's own";
 }
 
 TEST(EnergySeries, KeepsTheLastSamples) {
