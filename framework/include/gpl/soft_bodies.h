@@ -7,9 +7,10 @@
 //   findContacts()     which particles lie near the rigid bodies' planes, spheres and boxes, and
 //                      which cloth particles lie near each other (a spatial hash)
 //   project()          iterations sweeps: every constraint (distance, volume) with its kernel
-//                      (soft_constraints.h), then the contacts; lambda starts at 0 each step
+//                      (soft_constraints.h), then the contacts; lambda starts at 0 each step;
+//                      then friction where a rigid body pushed a particle
 //   updateVelocities() v = (p - x) / h; x = p
-// A mesh is PBD or XPBD (Method): XPBD uses each constraint's compliance; PBD ignores lambda and
+// A mesh is PBD or XPBD (SoftMethod): XPBD uses each constraint's compliance; PBD ignores lambda and
 // scales each projection with alpha = 0 by the per-iteration stiffness 1 - (1 - k)^(1/n), so what
 // stiffness a mesh shows depends on the iteration count n and the step, as the worksheet teaches.
 // Rigid bodies push particles (one way): a particle in contact moves out of the body and keeps
