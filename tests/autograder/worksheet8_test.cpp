@@ -8,10 +8,13 @@
 // at distance r from it by the shortest way; one that does not touch must stay bit for bit.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "gpl/scenes.h"
+#include "gpl/soft_bodies.h"
 #include "graded.h"
 #include "soft.h"
 
@@ -482,6 +485,258 @@ GRADED_TEST(Worksheet8, BoxMovesOnlyWhatTouches, 1,
                 << "a particle farther than r from the box must stay bit for bit" << particleText(p, r, answered, b);
         }
     }
+}
+
+// ---- Whole steps: the soft bodies' stages with the student's kernels -----------------------------------
+// The checker's engine holds the particles and constraints; each step runs in the submission's
+// engine (predict, soft contacts, project with the student's kernels, soft velocities), and the
+// particles' positions and velocities come back for the checks here.
+
+// A rope of `segments` links of 0.1 m hanging straight down from a pinned top, 0.1 kg a particle.
+constexpr double kLinkLength = 0.1;       // m
+constexpr double kParticleMass = 0.1;     // kg
+
+std::size_t hangingChain(PhysicsEngine& e, int segments, SoftMethod method, double compliance, double stiffness) {
+    e.setRequiredStages(kSoftStages);
+    RopeSpec r;
+    r.name = "chain";
+    r.segments = segments;
+    r.start = Vec3(0.0, 3.0, 0.0);
+    r.end = r.start - Vec3(0.0, kLinkLength * segments, 0.0);
+    r.mass = kParticleMass * (segments + 1);
+    r.method = method;
+    r.compliance = compliance;
+    r.stiffness = stiffness;
+    return e.softBodies().addRope(r);
+}
+
+// The stretch of the mesh's link k (m): its length less its rest length.
+double stretchOf(const SoftBodies& soft, std::size_t mesh, int k) {
+    const DistanceLink& l = soft.links[soft.meshes[mesh].firstLink + static_cast<std::uint32_t>(k)];
+    return (soft.x[l.i] - soft.x[l.j]).norm() - l.rest;
+}
+
+GRADED_TEST(Worksheet8, PinnedParticlesNeverMove, 2,
+            "A swinging rope pinned at one end and a cloth pinned at two corners: the pinned particles (w = 0) stay "
+            "exactly where they are in every step, and the rest hang from them. solveDistanceConstraint() must move "
+            "a particle by w dlambda grad C, nothing when w = 0.",
+            grading::dependsOn("DistanceMovesAlongTheLine"), grading::dependsOn("DistanceProjectionRestoresRestLength"),
+            grading::timeLimit(20)) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(kSoftStages);
+    e.setConstraintIterations(20);
+    SoftBodies& soft = e.softBodies();
+    RopeSpec r;
+    r.name = "rope";
+    r.segments = 10;
+    r.start = Vec3(0.0, 3.0, 0.0);
+    r.end = Vec3(1.0, 3.0, 0.0);  // horizontal: it swings down
+    r.compliance = 1e-5;
+    const std::size_t rope = soft.addRope(r);
+    ClothSpec c;
+    c.name = "cloth";
+    c.nx = c.ny = 6;
+    c.spacing = 0.1;
+    c.origin = Vec3(2.0, 3.0, 0.0);
+    c.pinned = {{0, 0}, {5, 0}};
+    const std::size_t cloth = soft.addCloth(c);
+    std::vector<std::size_t> pinned;
+    for (std::size_t i = 0; i < soft.x.size(); ++i) {
+        if (soft.w[i] == 0.0) pinned.push_back(i);
+    }
+    ASSERT_EQ(pinned.size(), 3u) << "the rope's top and the cloth's two corners";
+    const std::vector<Vec3> start = soft.x;
+    // How far a particle may be from the nearest pin: the longest way to it along the mesh, 1 m for
+    // the rope and 1 m along two edges of the cloth; the links stretch by alpha T, a fraction of a
+    // percent, so a tenth more is far from what holds and far below a fall of metres.
+    const double reach = 1.1 * (r.end - r.start).norm();
+    grading::steps(e, 300, [&](int k) {
+        for (const std::size_t i : pinned) {
+            ASSERT_TRUE(soft.x[i] == start[i]) << "step " << k << ": pinned particle " << i << " moved from "
+                                               << str(start[i]) << " to " << str(soft.x[i]);
+        }
+        for (std::size_t i = 0; i < soft.x.size(); ++i) {
+            double nearest = std::numeric_limits<double>::infinity();
+            for (const std::size_t j : pinned) {
+                if (soft.meshOf[j] == soft.meshOf[i]) nearest = std::min(nearest, (soft.x[i] - soft.x[j]).norm());
+            }
+            ASSERT_LE(nearest, reach) << "step " << k << ": particle " << i << " of the "
+                                      << (soft.meshOf[i] == rope ? "rope" : "cloth") << " is " << nearest
+                                      << " m from its nearest pin: it no longer hangs from it";
+        }
+    });
+    (void)cloth;
+}
+
+GRADED_TEST(Worksheet8, HangingXpbdChainReachesStaticStretch, 3,
+            "A chain of 10 XPBD links (compliance alpha) hanging from a pin comes to rest with each link stretched "
+            "by alpha T, T the weight of the particles below it, whatever the number of iterations: "
+            "alpha~ = alpha / h^2, and lambda summed over the step's iterations (the term -alpha~ lambda) is what "
+            "makes the stretch independent of the iteration count.",
+            grading::dependsOn("DistanceComplianceClosedForm"), grading::timeLimit(30)) {
+    const double alpha = 1e-3;  // m/N: the top link stretches by 1 % of its length
+    for (const int iterations : {20, 100}) {
+        PhysicsEngine& e = engine;
+        e.clear();
+        const std::size_t chain = hangingChain(e, 10, SoftMethod::XPBD, alpha, 1.0);
+        e.setConstraintIterations(iterations);
+        grading::steps(e, 3000, [](int) {});  // 30 s: the chain's bounce dies out
+        if (HasFailure()) return;
+        const SoftBodies& soft = e.softBodies();
+        const double g = e.gravity().norm();
+        for (int j = 0; j < 10; ++j) {
+            const double tension = (10 - j) * kParticleMass * g;  // N: the particles below link j
+            const double stretch = stretchOf(soft, chain, j);
+            // Within 1 % of alpha T: what the chain's motion keeps after 30 s (the sweeps converge
+            // from 20 iterations on); a lambda not summed stiffens the chain several times over.
+            ASSERT_NEAR(stretch, alpha * tension, 0.01 * alpha * tension)
+                << "link " << j << " from the top, " << iterations << " iterations: stretched by " << stretch
+                << " m; alpha T = " << alpha << " m/N x " << tension << " N";
+        }
+    }
+}
+
+GRADED_TEST(Worksheet8, PbdChainStiffensWithIterations, 2,
+            "PBD (alpha = 0, per-iteration stiffness k < 1): a hanging chain stretches less with more iterations, "
+            "its apparent stiffness grows with the iteration count (which XPBD's compliance does not). With "
+            "alpha = 0 solveDistanceConstraint() must still restore C = 0 in one projection; the framework scales it.",
+            grading::dependsOn("DistanceProjectionRestoresRestLength"), grading::timeLimit(20)) {
+    double previous = std::numeric_limits<double>::infinity();
+    for (const int iterations : {2, 8, 32}) {
+        PhysicsEngine& e = engine;
+        e.clear();
+        const std::size_t chain = hangingChain(e, 20, SoftMethod::PBD, 0.0, 0.5);
+        e.setConstraintIterations(iterations);
+        grading::steps(e, 500, [](int) {});  // 5 s
+        if (HasFailure()) return;
+        const SoftBodies& soft = e.softBodies();
+        const SoftMesh& m = soft.meshes[chain];
+        const double length = (soft.x[m.first + m.count - 1] - soft.x[m.first]).norm();
+        const double stretch = length / (20 * kLinkLength) - 1.0;  // relative
+        // Stretched (PBD's k < 1 gives), by less than half: a chain that holds at all; and less than
+        // with a quarter of the iterations.
+        ASSERT_GT(stretch, 0.0) << iterations << " iterations: the chain is no longer than at rest";
+        ASSERT_LT(stretch, 0.5) << iterations << " iterations: the chain stretched by " << stretch * 100
+                                << " %: its links do not hold";
+        ASSERT_LT(stretch, previous) << iterations << " iterations: stretched by " << stretch * 100
+                                     << " %, not less than with a quarter of the iterations (" << previous * 100 << " %)";
+        previous = stretch;
+    }
+}
+
+GRADED_TEST(Worksheet8, SoftCubeKeepsItsVolume, 2,
+            "A soft cube (soft edges, incompressible tetrahedra) resting on the floor keeps its volume: every "
+            "step's sweeps restore each tetrahedron's rest volume with solveVolumeConstraint(), whose moves must "
+            "follow the gradients of V (each the opposite face's cross product over 6, pointing away from it).",
+            grading::dependsOn("VolumeOneFreeCornerRestoredExactly"), grading::dependsOn("VolumeAllFreeSecondOrder"),
+            grading::timeLimit(20)) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(kSoftStages);
+    e.setConstraintIterations(10);
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    const double side = 0.4;  // m
+    TetMeshSpec cube = makeSoftCube("cube", Vec3(0.0, side / 2.0 + 0.05, 0.0), side, 2);
+    cube.edgeCompliance = 1e-3;  // m/N: edges alone would let it sag by a good part of its height
+    cube.volumeCompliance = 0.0;
+    const std::size_t mesh = e.softBodies().addSoftBody(cube);
+    const double h = e.timeStep(), g = e.gravity().norm();
+    // The floor pushes the bottom particles up after the sweeps, by at most the g h^2 they fell in the
+    // step, which squeezes the bottom layer's tetrahedra: at most g h^2 over the cube's side of its
+    // volume; twice that allows the sweeps' remainder.
+    const double bound = 2.0 * g * h * h / side;
+    double worst = 0.0;
+    grading::steps(e, 300, [&](int k) {
+        if (k <= 100) return;  // the first second: it lands and settles
+        worst = std::max(worst, std::abs(e.softBodies().volumeRatio(mesh) - 1.0));
+    });
+    if (HasFailure()) return;
+    EXPECT_LE(worst, bound) << "the cube's volume over its rest volume strayed from 1 by " << worst
+                            << " while it rested on the floor (allowed: 2 g h^2 / side = " << bound << ")";
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Vec3& x : e.softBodies().x) lowest = std::min(lowest, x.y());
+    EXPECT_GT(lowest, -0.5 * side) << "the cube did not stay above the floor";
+}
+
+// A cloth of n x n particles 0.05 m apart, level at height y, centred over (cx, cz); XPBD.
+ClothSpec levelCloth(const std::string& name, int n, double cx, double y, double cz) {
+    ClothSpec c;
+    c.name = name;
+    c.nx = c.ny = n;
+    c.spacing = 0.05;
+    const double half = 0.5 * (n - 1) * c.spacing;
+    c.origin = Vec3(cx - half, y, cz - half);
+    c.radius = 0.01;
+    return c;
+}
+
+GRADED_TEST(Worksheet8, NoParticleEndsInsideSphereOrBox, 2,
+            "Cloth dropped on a ball and on a turned box: at the end of every step no particle lies inside either "
+            "(nearer than its radius r): the last sweep pushes every contact out with projectParticleSphere() "
+            "and projectParticleBox(), which must reach distance r by the shortest way.",
+            grading::dependsOn("SphereInsideMovesToSurface"), grading::dependsOn("BoxInsideLeavesThroughNearestFace"),
+            grading::dependsOn("BoxNearFaceMovesOut"), grading::timeLimit(20)) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(kSoftStages);
+    e.setConstraintIterations(10);
+    // Frictionless bodies: friction moves particles along the surface after the sweeps, which on a
+    // curved surface sinks them by the square of the slide; without it the sweeps' last push stands.
+    // No floor: a particle caught between two bodies would be pushed by one into the other.
+    e.add(sphere("ball", 0.3, 1.0).at({0.0, 0.4, 0.0}).makeStatic().rough(0.0, 0.0));
+    const Quat turned = Quat(Eigen::AngleAxisd(0.5, Vec3::UnitY())) * Quat(Eigen::AngleAxisd(0.3, Vec3::UnitX()));
+    e.add(box("box", {0.3, 0.2, 0.25}, 1.0).at({1.5, 0.4, 0.0}).rotated(turned).makeStatic().rough(0.0, 0.0));
+    SoftBodies& soft = e.softBodies();
+    soft.addCloth(levelCloth("on-ball", 14, 0.05, 1.0, -0.03));
+    soft.addCloth(levelCloth("on-box", 14, 1.45, 1.0, 0.04));
+    const double r = 0.01;  // m, the particles' radius
+    double deepest = 0.0;
+    int touching = 0;
+    grading::steps(e, 200, [&](int k) {  // 2 s: the fall, the landing and the draping
+        const double depth = soft.deepestPenetration(e.bodies());
+        deepest = std::max(deepest, depth);
+        // The last sweep leaves each pushed particle exactly r from the surface; rounding of positions
+        // of about a metre is all that may remain.
+        ASSERT_LE(depth, 1e-9 * r) << "step " << k << ": a particle lies " << depth << " m inside the ball or the box";
+        for (const Vec3& x : soft.x) {
+            touching += (x - e.body("ball").position).norm() < 0.3 + 1.5 * r;
+        }
+    });
+    if (HasFailure()) return;
+    EXPECT_GT(touching, 0) << "no particle ever came near the ball";
+}
+
+GRADED_TEST(Worksheet8, ClothOnSphereGainsNoEnergy, 2,
+            "Cloth dropped on a ball with friction: its energy (kinetic and gravitational; its links are rigid) "
+            "never exceeds what it started with, and it comes to lie on the ball. A projection that overshoots, or moves "
+            "particles the wrong way, feeds energy in.",
+            grading::dependsOn("DistanceComplianceClosedForm"), grading::dependsOn("SphereInsideMovesToSurface"),
+            grading::timeLimit(30)) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(kSoftStages);
+    e.setConstraintIterations(10);
+    e.add(plane("floor", {0.0, 1.0, 0.0}));
+    const double R = 0.3;  // m
+    e.add(sphere("ball", R, 1.0).at({0.0, 0.5, 0.0}).makeStatic().rough(0.5, 0.4));
+    // Every compliance 0: the cloth stores no elastic energy (C^2 / 2 alpha of constraints not yet
+    // converged would count energy the step never had), so its kinetic and gravitational energy can only fall.
+    ClothSpec c = levelCloth("cloth", 16, 0.0, 1.2, 0.0);
+    c.stretchCompliance = c.shearCompliance = c.bendCompliance = 0.0;
+    e.softBodies().addCloth(c);
+    const double start = e.totalEnergy();  // J, at rest: all of it gravitational
+    grading::steps(e, 400, [&](int k) {  // 4 s
+        const double now = e.totalEnergy();
+        // Dropped from rest, it may trade energy between kinetic and gravitational but never have more
+        // than it started with; rounding of sums of a few hundred terms of up to the start's size.
+        ASSERT_LE(now, start + 1e-9 * std::abs(start)) << "step " << k << ": the energy rose from " << start
+                                                       << " J at the start to " << now << " J";
+    });
+    if (HasFailure()) return;
+    // Draped over the ball: the cloth's centre of mass above the ball's centre (a cloth through it ends
+    // on the floor).
+    Vec3 centre = Vec3::Zero();
+    for (const Vec3& x : e.softBodies().x) centre += x;
+    centre /= static_cast<double>(e.softBodies().x.size());
+    EXPECT_GT(centre.y(), e.body("ball").position.y()) << "the cloth's centre of mass ended at " << str(centre)
+                                                      << ": it does not lie on the ball";
 }
 
 }  // namespace

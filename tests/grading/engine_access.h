@@ -1,6 +1,7 @@
 // An engine's world as the checker sends it and the submission's engine answers it: what a step
 // reads (settings, bodies, springs, constraints, ropes, the container, the clock, last positions,
-// the contacts so far) and what it changes (bodies, last positions, contacts).
+// the contacts so far, the soft bodies) and what it changes (bodies, last positions, contacts, the
+// particles' positions and velocities).
 //
 // The checker keeps its own engine (the "mirror") with the framework's code and no student code:
 // it loads scenes, adds bodies, owns gravity and the time step, measures energies and checks that
@@ -60,6 +61,7 @@ struct EngineAccess {
         w.number(e.time_);
         w.u64(e.steps_);
         w.contacts(e.contacts_);
+        writeSoft(w, e.soft_);
         w.u8(withBodies ? 1 : 0);
         if (withBodies) {
             w.bodies(e.bodies_);
@@ -113,6 +115,7 @@ struct EngineAccess {
         e.steps_ = r.u64();
         e.contacts_ = r.contacts();
         e.nearPairs_.clear();  // found anew by detectCollisions() in every step, as step() does
+        readSoft(r, e.soft_);
         if (r.u8()) {
             std::vector<Body> bodies = r.bodies();
             if (!sameNames(bodies, e.bodies_)) e.friction_.forget();
@@ -140,6 +143,8 @@ struct EngineAccess {
         for (const Body& b : e.bodies_) writeMotion(w, b);
         w.vec3s(e.previousPositions_);
         w.contacts(e.contacts_);
+        w.vec3s(e.soft_.x);
+        w.vec3s(e.soft_.v);
     }
 
     /// The checker's side: the motion of every body as the hook left it, copied into the mirror
@@ -158,8 +163,18 @@ struct EngineAccess {
         for (const Contact& c : contacts) {
             if (c.a >= n || c.b >= n) throw grading::ProtocolError("the engine answered with a contact of no body");
         }
+        // The particles' positions and velocities, as many as the mirror has; what they are is for
+        // the tests (and the finiteness check of endStep()) to judge.
+        SoftBodies& soft = mirror.soft_;
+        std::vector<Vec3> x = r.vec3s(), v = r.vec3s();
+        if (x.size() != soft.x.size() || v.size() != soft.x.size()) {
+            throw grading::ProtocolError("the engine answered for another number of particles");
+        }
         mirror.previousPositions_ = std::move(previous);
         mirror.contacts_ = std::move(contacts);
+        soft.x = std::move(x);
+        soft.v = std::move(v);
+        soft.p = soft.x;
     }
 
     /// Bytes of a body's motion on the pipe.
@@ -233,7 +248,134 @@ struct EngineAccess {
     static const std::vector<Body>& bodies(const PhysicsEngine& e) { return e.bodies_; }
     static const std::vector<Vec3>& previousPositions(const PhysicsEngine& e) { return e.previousPositions_; }
 
+    /// Bytes of a particle's answer in a step (position and velocity).
+    static constexpr std::size_t kParticleBytes = 6 * sizeof(double);
+
 private:
+    // ---- The soft bodies, checker to engine: meshes, particles, constraints and wind whole (a step
+    // reads them all); the lambdas and this step's contacts start afresh in every step ------------
+
+    static void writeSoft(grading::Writer& w, const SoftBodies& s) {
+        w.u32(static_cast<std::uint32_t>(s.meshes.size()));
+        for (const SoftMesh& m : s.meshes) {
+            w.text(m.name);
+            w.u8(static_cast<std::uint8_t>(m.kind));
+            w.u8(static_cast<std::uint8_t>(m.method));
+            for (const std::uint32_t u : {m.first, m.count, m.firstLink, m.linkCount, m.firstVolume, m.volumeCount}) w.u32(u);
+            w.i32(m.nx);
+            w.i32(m.ny);
+            w.u32(static_cast<std::uint32_t>(m.triangles.size()));
+            for (const auto& tri : m.triangles) {
+                for (const std::uint32_t u : tri) w.u32(u);
+            }
+            w.number(m.radius);
+            w.u8(m.selfCollision ? 1 : 0);
+        }
+        w.vec3s(s.x);
+        w.vec3s(s.v);
+        w.vec3s(s.x0);
+        w.u32(static_cast<std::uint32_t>(s.w.size()));
+        for (std::size_t i = 0; i < s.w.size(); ++i) {
+            w.number(s.w[i]);
+            w.number(i < s.mass.size() ? s.mass[i] : 0.0);
+            w.u32(i < s.meshOf.size() ? s.meshOf[i] : 0);
+        }
+        w.u32(static_cast<std::uint32_t>(s.links.size()));
+        for (const DistanceLink& l : s.links) {
+            w.u32(l.i);
+            w.u32(l.j);
+            w.number(l.rest);
+            w.number(l.compliance);
+            w.number(l.stiffness);
+            w.u8(static_cast<std::uint8_t>(l.kind));
+        }
+        w.u32(static_cast<std::uint32_t>(s.volumes.size()));
+        for (const TetVolume& t : s.volumes) {
+            for (const std::uint32_t u : t.v) w.u32(u);
+            w.number(t.rest);
+            w.number(t.compliance);
+            w.number(t.stiffness);
+        }
+        w.vec3(s.wind());
+        w.number(s.windDrag());
+    }
+
+    /// The engine's side of writeSoft(); every index and enumeration checked.
+    static void readSoft(grading::Reader& r, SoftBodies& s) {
+        using grading::ProtocolError;
+        s.clear();
+        s.meshes.resize(r.count(40));
+        for (SoftMesh& m : s.meshes) {
+            m.name = r.text();
+            const std::uint8_t kind = r.u8(), method = r.u8();
+            if (kind > static_cast<std::uint8_t>(SoftMesh::Kind::SoftBody)) throw ProtocolError("a mesh of an unknown kind");
+            if (method > static_cast<std::uint8_t>(SoftMethod::XPBD)) throw ProtocolError("a mesh of an unknown method");
+            m.kind = static_cast<SoftMesh::Kind>(kind);
+            m.method = static_cast<SoftMethod>(method);
+            for (std::uint32_t* u : {&m.first, &m.count, &m.firstLink, &m.linkCount, &m.firstVolume, &m.volumeCount}) *u = r.u32();
+            m.nx = r.i32();
+            m.ny = r.i32();
+            m.triangles.resize(r.count(12));
+            for (auto& tri : m.triangles) {
+                for (std::uint32_t& u : tri) u = r.u32();
+            }
+            m.radius = r.number();
+            m.selfCollision = r.u8() != 0;
+        }
+        s.x = r.vec3s();
+        s.v = r.vec3s();
+        s.x0 = r.vec3s();
+        const std::size_t n = s.x.size();
+        if (r.count(20) != n || s.v.size() != n || s.x0.size() != n) throw ProtocolError("particles of unequal counts");
+        s.w.resize(n);
+        s.mass.resize(n);
+        s.meshOf.resize(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            s.w[i] = r.number();
+            s.mass[i] = r.number();
+            s.meshOf[i] = r.u32();
+            if (s.meshOf[i] >= s.meshes.size()) throw ProtocolError("a particle of no mesh");
+        }
+        s.p = s.x;
+        s.links.resize(r.count(33));
+        for (DistanceLink& l : s.links) {
+            l.i = r.u32();
+            l.j = r.u32();
+            l.rest = r.number();
+            l.compliance = r.number();
+            l.stiffness = r.number();
+            const std::uint8_t kind = r.u8();
+            if (kind > static_cast<std::uint8_t>(LinkKind::Rope)) throw ProtocolError("a link of an unknown kind");
+            l.kind = static_cast<LinkKind>(kind);
+            if (l.i >= n || l.j >= n) throw ProtocolError("a link names a particle that is not there");
+        }
+        s.volumes.resize(r.count(40));
+        for (TetVolume& t : s.volumes) {
+            for (std::uint32_t& u : t.v) {
+                u = r.u32();
+                if (u >= n) throw ProtocolError("a tetrahedron names a particle that is not there");
+            }
+            t.rest = r.number();
+            t.compliance = r.number();
+            t.stiffness = r.number();
+        }
+        for (const SoftMesh& m : s.meshes) {
+            const auto within = [](std::uint64_t first, std::uint64_t count, std::size_t size) { return first + count <= size; };
+            if (!within(m.first, m.count, n) || !within(m.firstLink, m.linkCount, s.links.size()) ||
+                !within(m.firstVolume, m.volumeCount, s.volumes.size())) {
+                throw ProtocolError("a mesh names particles or constraints that are not there");
+            }
+            for (const auto& tri : m.triangles) {
+                for (const std::uint32_t u : tri) {
+                    if (u >= n) throw ProtocolError("a triangle names a particle that is not there");
+                }
+            }
+        }
+        const Vec3 wind = r.vec3();
+        const double drag = r.number();
+        s.setWind(wind, drag);
+    }
+
     static std::uint32_t stageBits(const StageSet& s) {
         std::uint32_t bits = 0;
         for (std::size_t i = 0; i < kStageCount; ++i) {

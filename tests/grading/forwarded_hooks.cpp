@@ -66,6 +66,10 @@ std::vector<std::string> hooksOfStep(const PhysicsEngine& e) {
         add({Call::PrepareContactPoint, Call::ApplyWarmStart, Call::ApplyNormalImpulse, Call::ApplyFrictionImpulse,
              Call::ApplyImpulseAtPoint, Call::WorldInverseInertia});
     }
+    if (e.stageActive(Stage::SoftProject)) {
+        add({Call::SolveDistanceConstraint, Call::SolveVolumeConstraint, Call::ProjectParticleSphere,
+             Call::ProjectParticleBox});
+    }
     return hooks;
 }
 
@@ -135,7 +139,8 @@ void steps(PhysicsEngine& mirror, int n, const std::function<void(int)>& each) {
     // Steps of one request: as many as about a megabyte of answers holds (a thousand bodies: six),
     // which stays in the processor's caches.
     const StepHooks named(mirror);
-    const std::size_t perStep = 180 * std::max<std::size_t>(1, EngineAccess::bodies(mirror).size()) + 64;
+    const std::size_t perStep = 180 * std::max<std::size_t>(1, EngineAccess::bodies(mirror).size()) +
+                                EngineAccess::kParticleBytes * mirror.softBodies().x.size() + 64;
     const int batch = static_cast<int>(std::clamp<std::size_t>((1u << 20) / perStep, 1, 1000));
     int k = 0;
     std::string answer;  // a copy of each answer, its memory kept from batch to batch: each(k) may ask for hooks too
