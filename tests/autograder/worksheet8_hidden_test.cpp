@@ -1,10 +1,14 @@
 // Worksheet 8, hidden tests: graded by instructors and on Gradescope, left out of student releases
 // (./lab release drops every file that declares a hidden test; such a file holds hidden tests only).
 // Each compares the kernels with themselves under a change the physics does not see: the pair or the
-// corners relabelled, the whole scene turned and moved, repeated projections with the summed lambda.
+// corners relabelled, the whole scene turned and moved, repeated projections with the summed lambda;
+// and a chain of unequal masses at another step against its static closed form.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "gpl/scenes.h"
+#include "gpl/soft_bodies.h"
 #include "graded.h"
 #include "soft.h"
 
@@ -215,6 +219,44 @@ GRADED_TEST(Worksheet8Hidden, SphereAndBoxFollowRigidMotion, 2,
         }
     }
     EXPECT_GT(moves, 0) << "no particle was ever pushed out";
+}
+
+GRADED_TEST(Worksheet8Hidden, ChainOfUnequalMassesReachesStaticStretch, 2,
+            "A hanging XPBD chain of alternately light and heavy particles, with another step and compliance, rests "
+            "with each link stretched by alpha T, T the weight of the particles below it: the moves must be "
+            "weighted by each particle's own inverse mass, and alpha~ = alpha / h^2 at any h.",
+            grading::hidden(), grading::timeLimit(30)) {
+    PhysicsEngine& e = engine;
+    e.setRequiredStages(kSoftStages);
+    e.setTimeStep(0.005);
+    e.setConstraintIterations(40);
+    SoftBodies& soft = e.softBodies();
+    RopeSpec r;
+    r.name = "chain";
+    r.segments = 8;
+    r.start = Vec3(0.5, 2.0, -0.3);
+    r.end = r.start - Vec3(0.0, 0.8, 0.0);
+    r.compliance = 5e-4;  // m/N
+    const std::size_t chain = soft.addRope(r);
+    const SoftMesh& m = soft.meshes[chain];
+    for (std::uint32_t i = m.first + 1; i < m.first + m.count; ++i) {
+        soft.mass[i] = (i - m.first) % 2 == 1 ? 0.05 : 0.2;  // kg
+        soft.w[i] = 1.0 / soft.mass[i];
+    }
+    grading::steps(e, 6000, [](int) {});  // 30 s: the chain's bounce dies out
+    if (HasFailure()) return;
+    const double g = e.gravity().norm();
+    for (int j = 0; j < 8; ++j) {
+        const DistanceLink& l = soft.links[m.firstLink + static_cast<std::uint32_t>(j)];
+        double below = 0.0;  // kg: the particles below the link's lower end and that end itself
+        for (std::uint32_t i = std::max(l.i, l.j); i < m.first + m.count; ++i) below += soft.mass[i];
+        const double tension = below * g, stretch = (soft.x[l.i] - soft.x[l.j]).norm() - l.rest;
+        // Within 1 % of alpha T: what the chain's motion keeps after 30 s; the mistakes caught move
+        // the rest shape by tens of percents.
+        ASSERT_NEAR(stretch, r.compliance * tension, 0.01 * r.compliance * tension)
+            << "link " << j << " from the top stretched by " << stretch << " m; alpha T = " << r.compliance << " m/N x "
+            << tension << " N";
+    }
 }
 
 }  // namespace
