@@ -140,7 +140,9 @@ std::optional<std::uint32_t> particleByName(const SoftBodies& soft, const std::s
     const auto hash = name.rfind('#');
     if (hash == std::string::npos || hash + 1 == name.size()) return std::nullopt;
     const std::string digits = name.substr(hash + 1);
-    if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) return std::nullopt;
+    if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+        return std::nullopt;  // not a number, or more particles than a mesh holds
+    }
     const unsigned long k = std::stoul(digits);
     for (const SoftMesh& m : soft.meshes) {
         if (m.name == name.substr(0, hash) && k < m.count) return static_cast<std::uint32_t>(m.first + k);

@@ -557,6 +557,8 @@ TEST(SoftShapes, ARayPicksARopesParticleWithinItsBead) {
     EXPECT_FALSE(particleByName(soft, "rope#11")) << "11 particles: 0..10";
     EXPECT_FALSE(particleByName(soft, "rope"));
     EXPECT_FALSE(particleByName(soft, "cord#3"));
+    EXPECT_FALSE(particleByName(soft, "rope#99999999999999999999")) << "no number a mesh could hold";
+    EXPECT_FALSE(particleByName(soft, "rope#-1"));
 }
 
 TEST(SoftShapes, AMeshIsFramedAsItsParticlesSpheres) {
