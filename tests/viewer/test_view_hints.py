@@ -2,7 +2,8 @@
 leaves free, clear of the overlay at its top left: each scene runs in the real viewer under Xvfb, at
 the default window size with the panel open and the reference ghost on, and every 0.1 s of its
 viewSeconds the viewer reports where each moving body is drawn (its bounding sphere projected by the
-camera the renderer uses) and where the overlay is."""
+camera the renderer uses; a cloth, rope or soft body as the spheres of its particles) and where the
+overlay is."""
 import json
 import os
 import subprocess
