@@ -62,18 +62,18 @@ void clothOnSphere(PhysicsEngine& e) {
     e.softBodies().addCloth(c);
 }
 
-// A cloth of 40 x 20 particles (1.56 m x 0.76 m, 0.4 kg) dropped from 1 m onto a static table 0.8 m
-// high, 0.61 m of it beyond the table's right edge: that part hangs down; friction (mu_s = 0.9 with
-// the table) holds the rest on the table against its pull.
+// A cloth of 20 x 38 particles (0.76 m x 1.48 m, 0.4 kg) dropped from 1 m onto a static table 0.8 m
+// high, 0.7 m of it beyond the table's front edge (towards the viewer): that part hangs down;
+// friction (mu_s = 0.9 with the table) holds the rest on the table against its pull.
 void clothOnTable(PhysicsEngine& e) {
     e.add(ground());
     e.add(box("table", {0.5, 0.4, 0.4}, 1.0).at({0.0, 0.4, 0.0}).rough(0.9, 0.7).makeStatic());
     ClothSpec c;
     c.name = "cloth";
-    c.nx = 40;
-    c.ny = 20;
+    c.nx = 20;
+    c.ny = 38;
     c.spacing = 0.04;
-    c.origin = {-0.45, 1.0, -0.38};
+    c.origin = {-0.38, 1.0, -0.38};
     c.u = Vec3::UnitX();
     c.v = Vec3::UnitZ();
     c.mass = 0.4;
@@ -185,13 +185,13 @@ void addWorksheet8Scenes(SceneRegistry& r) {
     r.add(softScene("cloth-on-sphere", "A cloth dropped on a ball: it drapes over it, its folds kept apart.",
                     clothOnSphere, {0.0, 0.6, 0.0}, 4.0));
     r.add(softScene("cloth-on-table", "A cloth dropped over a table's edge: friction holds it, the rest hangs down.",
-                    clothOnTable, {0.3, 0.6, 0.0}, 4.0));
+                    clothOnTable, {0.0, 0.6, 0.3}, 4.0));
     r.add(softScene("soft-cube", "A soft cube dropped on the floor: it squashes and springs back, its volume kept.",
-                    softCube, {0.0, 0.7, 0.0}, 3.5));
+                    softCube, {0.0, 0.9, 0.0}, 3.0));
     r.add(softScene("soft-ball", "A soft ball dropped on the floor: it squashes and recovers, its volume kept.", softBall,
-                    {0.0, 0.8, 0.0}, 4.0));
+                    {0.0, 1.1, 0.0}, 3.5));
     r.add(softScene("rope-pbd-xpbd", "Two ropes released horizontal: PBD (stiffness 0.8) stretches, XPBD holds its length.",
-                    ropePbdXpbd, {0.0, 1.8, 0.0}, 6.0));
+                    ropePbdXpbd, {-1.2, 2.2, 0.0}, 5.5));
     r.add(softScene("cloth-stretchy-stiff", "Two hanging cloths: one with stretch compliance sags long, the other keeps its size.",
                     clothStretchyStiff, {0.0, 1.9, 0.0}, 4.0));
 }
