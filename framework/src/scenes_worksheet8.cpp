@@ -185,7 +185,7 @@ void addWorksheet8Scenes(SceneRegistry& r) {
     r.add(softScene("cloth-on-sphere", "A cloth dropped on a ball: it drapes over it, its folds kept apart.",
                     clothOnSphere, {0.0, 0.6, 0.0}, 4.0));
     r.add(softScene("cloth-on-table", "A cloth dropped over a table's edge: friction holds it, the rest hangs down.",
-                    clothOnTable, {0.0, 0.6, 0.3}, 4.0));
+                    clothOnTable, {0.0, 0.6, 0.3}, 3.3));
     r.add(softScene("soft-cube", "A soft cube dropped on the floor: it squashes and springs back, its volume kept.",
                     softCube, {0.0, 0.9, 0.0}, 3.0));
     r.add(softScene("soft-ball", "A soft ball dropped on the floor: it squashes and recovers, its volume kept.", softBall,

@@ -246,15 +246,15 @@ GRADED_TEST(Worksheet8Hidden, ChainOfUnequalMassesReachesStaticStretch, 2,
     grading::steps(e, 6000, [](int) {});  // 30 s: the chain's bounce dies out
     if (HasFailure()) return;
     const double g = e.gravity().norm();
-    for (int j = 0; j < 8; ++j) {
-        const DistanceLink& l = soft.links[m.firstLink + static_cast<std::uint32_t>(j)];
+    for (int segment = 0; segment < 8; ++segment) {
+        const DistanceLink& l = soft.links[m.firstLink + static_cast<std::uint32_t>(segment)];
         double below = 0.0;  // kg: the particles below the link's lower end and that end itself
         for (std::uint32_t i = std::max(l.i, l.j); i < m.first + m.count; ++i) below += soft.mass[i];
         const double tension = below * g, stretch = (soft.x[l.i] - soft.x[l.j]).norm() - l.rest;
         // Within 1 % of alpha T: what the chain's motion keeps after 30 s; the mistakes caught move
         // the rest shape by tens of percents.
         ASSERT_NEAR(stretch, r.compliance * tension, 0.01 * r.compliance * tension)
-            << "link " << j << " from the top stretched by " << stretch << " m; alpha T = " << r.compliance << " m/N x "
+            << "link " << segment << " from the top stretched by " << stretch << " m; alpha T = " << r.compliance << " m/N x "
             << tension << " N";
     }
 }

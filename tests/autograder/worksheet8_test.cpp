@@ -428,17 +428,17 @@ GRADED_TEST(Worksheet8, BoxNearEdgeOrCornerMovesOut, 2,
         const int inside = i % 4;  // an edge along this axis; 3: a corner
         Vec3 q;
         for (;;) {
-            for (int j = 0; j < 3; ++j) {
+            for (int axis = 0; axis < 3; ++axis) {
                 const double side = rnd.uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0;
-                q[j] = j == inside ? rnd.uniform(-0.999, 0.999) * b.half[j] : side * (b.half[j] + rnd.uniform(0.0, r));
+                q[axis] = axis == inside ? rnd.uniform(-0.999, 0.999) * b.half[axis] : side * (b.half[axis] + rnd.uniform(0.0, r));
             }
             const Vec3 c = checks::nearestOnBox(b, q);
             if ((q - c).norm() < 0.99 * r && (q - c).norm() > 1e-3 * r) break;
         }
         const Vec3 c = checks::nearestOnBox(b, q);
         double grownPush = r;  // m: the least push onto a face of the box grown by r
-        for (int j = 0; j < 3; ++j) {
-            if (j != inside) grownPush = std::min(grownPush, b.half[j] + r - std::abs(q[j]));
+        for (int axis = 0; axis < 3; ++axis) {
+            if (axis != inside) grownPush = std::min(grownPush, b.half[axis] + r - std::abs(q[axis]));
         }
         const Vec3 p = b.world(q);
         const Vec3 answered = projectParticleBox(p, r, b.centre, b.orientation, b.half);
