@@ -12,6 +12,7 @@
 #include "gpl/collision.h"
 #include "gpl/integrators.h"
 #include "gpl/engine.h"
+#include "gpl/fluid_kernels.h"
 #include "gpl/response.h"
 #include "gpl/rotation.h"
 #include "gpl/scenes.h"
@@ -448,6 +449,81 @@ Vec3 projectParticleBox(const Vec3& p, double r, const Vec3& centre, const Quat&
     grading::parseAnswer(Call::ProjectParticleBox, grading::request(Call::ProjectParticleBox, w.bytes()),
                          [&](Reader& r) { moved = r.vec3(); });
     return moved;
+}
+
+// ---- Worksheet 9: fluids --------------------------------------------------------------------------
+// The answers are read as they come; the graded tests check that each is finite before they use it
+// (tests/autograder/fluid.h), so that nonsense fails the test it answered.
+
+double poly6Kernel(double r, double h) {
+    Writer w;
+    w.number(r);
+    w.number(h);
+    double W = 0.0;
+    grading::parseAnswer(Call::Poly6Kernel, grading::request(Call::Poly6Kernel, w.bytes()),
+                         [&](Reader& in) { W = in.number(); });
+    return W;
+}
+
+Vec3 spikyGradient(const Vec3& r, double h) {
+    Writer w;
+    w.vec3(r);
+    w.number(h);
+    Vec3 g = Vec3::Zero();
+    grading::parseAnswer(Call::SpikyGradient, grading::request(Call::SpikyGradient, w.bytes()),
+                         [&](Reader& in) { g = in.vec3(); });
+    return g;
+}
+
+double fluidDensity(const Vec3& x, const std::vector<FluidNeighbour>& neighbours, double mass, double h) {
+    Writer w;
+    w.vec3(x);
+    w.fluidNeighbours(neighbours);
+    w.number(mass);
+    w.number(h);
+    double rho = 0.0;
+    grading::parseAnswer(Call::FluidDensity, grading::request(Call::FluidDensity, w.bytes()),
+                         [&](Reader& in) { rho = in.number(); });
+    return rho;
+}
+
+double densityConstraintLambda(const Vec3& x, const std::vector<FluidNeighbour>& neighbours, double density,
+                               double restDensity, double mass, double h, double epsilon) {
+    Writer w;
+    w.vec3(x);
+    w.fluidNeighbours(neighbours);
+    for (const double v : {density, restDensity, mass, h, epsilon}) w.number(v);
+    double lambda = 0.0;
+    grading::parseAnswer(Call::DensityConstraintLambda, grading::request(Call::DensityConstraintLambda, w.bytes()),
+                         [&](Reader& in) { lambda = in.number(); });
+    return lambda;
+}
+
+Vec3 densityCorrection(const Vec3& x, double lambda, const std::vector<FluidNeighbour>& neighbours,
+                       double restDensity, double mass, double h, const TensileCorrection& tensile) {
+    Writer w;
+    w.vec3(x);
+    w.number(lambda);
+    w.fluidNeighbours(neighbours);
+    for (const double v : {restDensity, mass, h}) w.number(v);
+    w.tensileCorrection(tensile);
+    Vec3 dp = Vec3::Zero();
+    grading::parseAnswer(Call::DensityCorrection, grading::request(Call::DensityCorrection, w.bytes()),
+                         [&](Reader& in) { dp = in.vec3(); });
+    return dp;
+}
+
+Vec3 xsphViscosity(const Vec3& x, const Vec3& v, const std::vector<FluidNeighbour>& neighbours, double mass, double h,
+                   double c) {
+    Writer w;
+    w.vec3(x);
+    w.vec3(v);
+    w.fluidNeighbours(neighbours);
+    for (const double value : {mass, h, c}) w.number(value);
+    Vec3 blended = v;
+    grading::parseAnswer(Call::XsphViscosity, grading::request(Call::XsphViscosity, w.bytes()),
+                         [&](Reader& in) { blended = in.vec3(); });
+    return blended;
 }
 
 // ---- The student's own scenes -------------------------------------------------------------------

@@ -24,6 +24,7 @@
 #include "engine_access.h"
 #include "gpl/collision.h"
 #include "gpl/engine.h"
+#include "gpl/fluid_kernels.h"
 #include "gpl/hooks.h"
 #include "gpl/response.h"
 #include "gpl/rotation.h"
@@ -428,6 +429,54 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             const Vec3 half = in.vec3();
             in.end();
             out.vec3(projectParticleBox(p, r, centre, orientation, half));
+            return;
+        }
+        case Call::Poly6Kernel: {
+            const double r = in.number(), h = in.number();
+            in.end();
+            out.number(poly6Kernel(r, h));
+            return;
+        }
+        case Call::SpikyGradient: {
+            const Vec3 r = in.vec3();
+            const double h = in.number();
+            in.end();
+            out.vec3(spikyGradient(r, h));
+            return;
+        }
+        case Call::FluidDensity: {
+            const Vec3 x = in.vec3();
+            const std::vector<FluidNeighbour> neighbours = in.fluidNeighbours();
+            const double mass = in.number(), h = in.number();
+            in.end();
+            out.number(fluidDensity(x, neighbours, mass, h));
+            return;
+        }
+        case Call::DensityConstraintLambda: {
+            const Vec3 x = in.vec3();
+            const std::vector<FluidNeighbour> neighbours = in.fluidNeighbours();
+            const double density = in.number(), restDensity = in.number(), mass = in.number(), h = in.number();
+            const double epsilon = in.number();
+            in.end();
+            out.number(densityConstraintLambda(x, neighbours, density, restDensity, mass, h, epsilon));
+            return;
+        }
+        case Call::DensityCorrection: {
+            const Vec3 x = in.vec3();
+            const double lambda = in.number();
+            const std::vector<FluidNeighbour> neighbours = in.fluidNeighbours();
+            const double restDensity = in.number(), mass = in.number(), h = in.number();
+            const TensileCorrection tensile = in.tensileCorrection();
+            in.end();
+            out.vec3(densityCorrection(x, lambda, neighbours, restDensity, mass, h, tensile));
+            return;
+        }
+        case Call::XsphViscosity: {
+            const Vec3 x = in.vec3(), v = in.vec3();
+            const std::vector<FluidNeighbour> neighbours = in.fluidNeighbours();
+            const double mass = in.number(), h = in.number(), c = in.number();
+            in.end();
+            out.vec3(xsphViscosity(x, v, neighbours, mass, h, c));
             return;
         }
         case Call::End:

@@ -36,6 +36,12 @@ const char* callName(Call call) {
         case Call::SolveVolumeConstraint: return "solveVolumeConstraint()";
         case Call::ProjectParticleSphere: return "projectParticleSphere()";
         case Call::ProjectParticleBox: return "projectParticleBox()";
+        case Call::Poly6Kernel: return "poly6Kernel()";
+        case Call::SpikyGradient: return "spikyGradient()";
+        case Call::FluidDensity: return "fluidDensity()";
+        case Call::DensityConstraintLambda: return "densityConstraintLambda()";
+        case Call::DensityCorrection: return "densityCorrection()";
+        case Call::XsphViscosity: return "xsphViscosity()";
         case Call::Steps: return "simulationTimestep()";
         case Call::IntegratorSteps: return "an integrator kernel";
         case Call::RotationSteps: return "integrateRotation()";
@@ -124,6 +130,22 @@ void Writer::distanceCorrection(const DistanceCorrection& c) {
 void Writer::volumeCorrection(const VolumeCorrection& c) {
     for (const Vec3& d : c.dx) vec3(d);
     number(c.dlambda);
+}
+
+void Writer::tensileCorrection(const TensileCorrection& t) {
+    number(t.k);
+    number(t.dq);
+    i32(t.n);
+}
+
+void Writer::fluidNeighbours(const std::vector<FluidNeighbour>& list) {
+    u32(static_cast<std::uint32_t>(list.size()));
+    for (const FluidNeighbour& j : list) {
+        vec3(j.x);
+        vec3(j.v);
+        number(j.density);
+        number(j.lambda);
+    }
 }
 
 void Writer::vec3s(const std::vector<Vec3>& v) {
@@ -266,6 +288,27 @@ VolumeCorrection Reader::volumeCorrection() {
     for (Vec3& d : c.dx) d = vec3();
     c.dlambda = number();
     return c;
+}
+
+TensileCorrection Reader::tensileCorrection() {
+    TensileCorrection t;
+    t.k = number();
+    t.dq = number();
+    t.n = i32();
+    return t;
+}
+
+std::vector<FluidNeighbour> Reader::fluidNeighbours() {
+    const std::size_t n = count(8 * sizeof(double));
+    if (n > kMaxFluidNeighbours) throw ProtocolError("a message holds more fluid neighbours than a particle can have");
+    std::vector<FluidNeighbour> list(n);
+    for (FluidNeighbour& j : list) {
+        j.x = vec3();
+        j.v = vec3();
+        j.density = number();
+        j.lambda = number();
+    }
+    return list;
 }
 
 std::vector<Vec3> Reader::vec3s() {

@@ -19,6 +19,7 @@
 
 #include "gpl/body.h"
 #include "gpl/contact.h"
+#include "gpl/fluid_kernels.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
 #include "gpl/soft_constraints.h"
@@ -57,6 +58,12 @@ enum class Call : std::uint8_t {
     SolveVolumeConstraint,
     ProjectParticleSphere,
     ProjectParticleBox,
+    Poly6Kernel,
+    SpikyGradient,
+    FluidDensity,
+    DensityConstraintLambda,
+    DensityCorrection,
+    XsphViscosity,
     Steps,            ///< whole steps of the engine, simulationTimestep() in each (graded.h: grading::steps())
     IntegratorSteps,  ///< steps of an integrator kernel under a LinearForce (graded.h: grading::integratorSteps())
     RotationSteps,    ///< steps of integrateRotation() of one body (graded.h: grading::rotationSteps())
@@ -93,6 +100,9 @@ struct LinearForce {
 
 /// Largest frame either side accepts: a hundred thousand bodies.
 constexpr std::uint32_t kMaxFrameBytes = 256u << 20;
+/// Most neighbours a fluid kernel's request may hold: hundreds of times a particle's usual few
+/// dozen, a bound that keeps a request's memory small whatever its count says.
+constexpr std::uint32_t kMaxFluidNeighbours = 1u << 16;
 /// Longest string (a body's name, an exception's message) either side accepts.
 constexpr std::uint32_t kMaxStringBytes = 1u << 16;
 
@@ -125,6 +135,9 @@ public:
     void contactPoint(const ContactPoint& p);
     void distanceCorrection(const DistanceCorrection& c);
     void volumeCorrection(const VolumeCorrection& c);
+    void tensileCorrection(const TensileCorrection& t);
+    /// The count, then each neighbour's position, velocity, density and lambda.
+    void fluidNeighbours(const std::vector<FluidNeighbour>& list);
     void vec3s(const std::vector<Vec3>& v);
     void bodies(const std::vector<Body>& bodies);
     void contacts(const std::vector<Contact>& contacts);
@@ -165,6 +178,9 @@ public:
     ContactPoint contactPoint();
     DistanceCorrection distanceCorrection();
     VolumeCorrection volumeCorrection();
+    TensileCorrection tensileCorrection();
+    /// At most kMaxFluidNeighbours.
+    std::vector<FluidNeighbour> fluidNeighbours();
     std::vector<Vec3> vec3s();
     std::vector<Body> bodies();
     std::vector<Contact> contacts();
