@@ -57,6 +57,21 @@ void PhysicsEngine::simulationTimestep() {
 
     // Soft velocities: v = (p - x) / h, and the corrected predictions become the positions.
     if (stageActive(Stage::SoftVelocities)) updateParticleVelocities();
+
+    // Fluid, predict: velocities by gravity, predicted positions p = x + h v (worksheet 9).
+    if (stageActive(Stage::FluidPredict)) predictFluid();
+
+    // Neighbours: every fluid particle's neighbours nearer than the smoothing length, once per step.
+    if (stageActive(Stage::FluidNeighbours)) findFluidNeighbours();
+
+    // Fluid project: sweeps of densities, multipliers and moves, then the rigid bodies' push.
+    if (stageActive(Stage::FluidProject)) projectFluid();
+
+    // Fluid velocities: v = (p - x) / h, XSPH viscosity, and the predictions become the positions.
+    if (stageActive(Stage::FluidVelocities)) updateFluidVelocities();
+
+    // SPH: weakly compressible SPH's whole step in substeps, the framework's comparison (worksheet 9).
+    if (stageActive(Stage::FluidSph)) stepSph();
 }
 
 }  // namespace gpl

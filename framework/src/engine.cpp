@@ -65,6 +65,9 @@ void PhysicsEngine::restore(const State& s) {
     soft_.p = s.particlePositions;
     soft_.contacts.clear();
     soft_.selfPairs.clear();
+    fluids_.x = s.fluidPositions;
+    fluids_.v = s.fluidVelocities;
+    fluids_.p = s.fluidPositions;
 }
 
 void PhysicsEngine::clear() {
@@ -78,6 +81,7 @@ void PhysicsEngine::clear() {
     previousPositions_.clear();
     friction_.forget();
     soft_.clear();
+    fluids_.clear();
     time_ = 0.0;
     steps_ = 0;
 }
@@ -265,6 +269,12 @@ void PhysicsEngine::endStep() {
                               "' is no longer finite after step " + std::to_string(steps_) + " (t = " +
                               formatNumber(time_) + " s): check solveDistanceConstraint() and solveVolumeConstraint()");
     }
+    const std::size_t f = fluids_.firstNonFinite();
+    if (f < fluids_.size()) {
+        throw SimulationError("fluid particle " + std::to_string(f) + " is no longer finite after step " +
+                              std::to_string(steps_) + " (t = " + formatNumber(time_) +
+                              " s): check fluidDensity(), densityConstraintLambda() and densityCorrection()");
+    }
 }
 
 void PhysicsEngine::updateConstantAcceleration() {
@@ -371,6 +381,25 @@ void PhysicsEngine::projectParticles() {
 
 void PhysicsEngine::updateParticleVelocities() { soft_.updateVelocities(timeStep_); }
 
+void PhysicsEngine::predictFluid() { fluids_.predict(timeStep_, gravity_); }
+
+void PhysicsEngine::findFluidNeighbours() { fluids_.findNeighbours(); }
+
+void PhysicsEngine::projectFluid() {
+    fluids_.project(bodies_);
+    recordOpenKernels();
+}
+
+void PhysicsEngine::updateFluidVelocities() {
+    fluids_.updateVelocities(timeStep_);
+    recordOpenKernels();
+}
+
+void PhysicsEngine::stepSph() {
+    fluids_.stepSph(timeStep_, gravity_, bodies_);
+    recordOpenKernels();
+}
+
 void PhysicsEngine::recordOpenKernels() {
     for (const std::string& hook : kernelsNotImplemented()) missing_.insert(hook);
 }
@@ -387,6 +416,7 @@ double PhysicsEngine::kineticEnergy() const {
     double e = 0.0;
     for (const Body& b : bodies_) e += gpl::kineticEnergy(b);
     if (!soft_.empty()) e += soft_.kineticEnergy();
+    if (!fluids_.empty()) e += fluids_.kineticEnergy();
     return e;
 }
 
@@ -399,6 +429,7 @@ double PhysicsEngine::potentialEnergy() const {
 }
 
 double PhysicsEngine::plusSoftEnergies(double e) const {
+    if (!fluids_.empty()) e += fluids_.potentialEnergy(gravity_);
     if (soft_.empty()) return e;
     return e + soft_.potentialEnergy(gravity_) + soft_.elasticEnergy();
 }
@@ -419,12 +450,14 @@ double PhysicsEngine::totalEnergy() const {
         if (gravity) potential += gpl::potentialEnergy(b, gravity_);
     }
     if (!soft_.empty()) kinetic += soft_.kineticEnergy();
+    if (!fluids_.empty()) kinetic += fluids_.kineticEnergy();
     return kinetic + plusSoftEnergies(plusSpringEnergies(potential));
 }
 
 Vec3 PhysicsEngine::linearMomentum() const {
     Vec3 p = Vec3::Zero();
     for (const Body& b : bodies_) p += gpl::linearMomentum(b);
+    if (!fluids_.empty()) p += fluids_.linearMomentum();
     return p;
 }
 
@@ -434,11 +467,11 @@ bool PhysicsEngine::allFinite() const {
     // finite, body by body, since finite numbers can also add up to an overflow.
     Vec3 sum = Vec3::Zero();
     for (const Body& b : bodies_) sum += b.position + b.velocity;
-    if (isFinite(sum)) return soft_.empty() || soft_.allFinite();
+    if (isFinite(sum)) return (soft_.empty() || soft_.allFinite()) && fluids_.firstNonFinite() == fluids_.size();
     for (const Body& b : bodies_) {
         if (!isFinite(b.position) || !isFinite(b.velocity)) return false;
     }
-    return soft_.empty() || soft_.allFinite();
+    return (soft_.empty() || soft_.allFinite()) && fluids_.firstNonFinite() == fluids_.size();
 }
 
 }  // namespace gpl

@@ -61,6 +61,7 @@ const SceneRegistry& scenes() {
         addWorksheet7Scenes(r);
         addStackingScenes(r);
         addWorksheet8Scenes(r);
+        addWorksheet9Scenes(r);
         addStudentScenes(r);
         return r;
     }();

@@ -34,6 +34,16 @@ const char* stageName(Stage stage) {
             return "project";
         case Stage::SoftVelocities:
             return "soft velocities";
+        case Stage::FluidPredict:
+            return "fluid predict";
+        case Stage::FluidNeighbours:
+            return "neighbours";
+        case Stage::FluidProject:
+            return "fluid project";
+        case Stage::FluidVelocities:
+            return "fluid velocities";
+        case Stage::FluidSph:
+            return "sph";
         case Stage::Count:
             break;
     }

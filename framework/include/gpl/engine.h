@@ -20,6 +20,12 @@
 //   projectParticles()            soft bodies: sweeps of solveDistanceConstraint(), solveVolumeConstraint()
 //                                 and the contact kernels over the predictions (worksheet 8)
 //   updateParticleVelocities()    soft bodies: v = (p - x) / h, x = p (worksheet 8)
+//   predictFluid()                fluids: v += h g, p = x + h v (worksheet 9)
+//   findFluidNeighbours()         fluids: every particle's neighbours, once per step (worksheet 9)
+//   projectFluid()                fluids: sweeps of fluidDensity(), densityConstraintLambda(),
+//                                 densityCorrection() and the rigid bodies' push (worksheet 9)
+//   updateFluidVelocities()       fluids: v = (p - x) / h, xsphViscosity(), x = p (worksheet 9)
+//   stepSph()                     fluids: weakly compressible SPH's step, the comparison (worksheet 9)
 #pragma once
 
 #include <array>
@@ -35,6 +41,7 @@
 #include "gpl/broadphase.h"
 #include "gpl/constraints.h"
 #include "gpl/contact.h"
+#include "gpl/fluids.h"
 #include "gpl/forces.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
@@ -90,8 +97,12 @@ public:
         std::vector<Vec3> particlePositions;   ///< SoftBodies::x (m)
         std::vector<Vec3> particleVelocities;  ///< SoftBodies::v (m/s)
         std::vector<double> particleInverseMasses;  ///< SoftBodies::w (1/kg)
+        std::vector<Vec3> fluidPositions;      ///< Fluids::x (m)
+        std::vector<Vec3> fluidVelocities;     ///< Fluids::v (m/s)
     };
-    State state() const { return {bodies_, time_, steps_, previousPositions_, soft_.x, soft_.v, soft_.w}; }
+    State state() const {
+        return {bodies_, time_, steps_, previousPositions_, soft_.x, soft_.v, soft_.w, fluids_.x, fluids_.v};
+    }
     /// Restores a state taken from this engine with the same bodies, springs, constraints and soft
     /// bodies.
     void restore(const State& s);
@@ -99,6 +110,10 @@ public:
     // ---- Soft bodies (worksheet 8): cloth, ropes of particles, tetrahedral soft bodies ------------
     SoftBodies& softBodies() { return soft_; }
     const SoftBodies& softBodies() const { return soft_; }
+
+    // ---- Fluids (worksheet 9): particles of one rest density, PBF or WCSPH ------------------------
+    Fluids& fluids() { return fluids_; }
+    const Fluids& fluids() const { return fluids_; }
 
     // ---- Springs and constraints (worksheet 2); bodies by name, checked, index returned -------------
     /// A Hooke spring between two bodies (one may be static: an anchor). restLength < 0 means the
@@ -246,6 +261,18 @@ public:
     /// Stage SoftVelocities: softBodies().updateVelocities() with timeStep().
     void updateParticleVelocities();
 
+    // ---- Framework stages (worksheet 9): the fluids' step (fluids.h) ---------------------------------
+    /// Stage FluidPredict: fluids().predict() with timeStep() and gravity().
+    void predictFluid();
+    /// Stage FluidNeighbours: fluids().findNeighbours(), once per step.
+    void findFluidNeighbours();
+    /// Stage FluidProject: fluids().project() against bodies().
+    void projectFluid();
+    /// Stage FluidVelocities: fluids().updateVelocities() with timeStep().
+    void updateFluidVelocities();
+    /// Stage FluidSph: fluids().stepSph() with timeStep() and gravity() against bodies().
+    void stepSph();
+
     // ---- Hooks not implemented yet ------------------------------------------------------------
     /// Called by a stub: records the hook and prints "not implemented: <hook>" once per process.
     void notImplemented(const std::string& hook);
@@ -297,6 +324,7 @@ private:
     FrictionStage friction_;               ///< the friction stage's memory and buffers (friction.h)
     ContactSolver contactSolver_ = ContactSolver::SequentialImpulses;
     SoftBodies soft_;                      ///< worksheet 8's particles, meshes and constraints
+    Fluids fluids_;                        ///< worksheet 9's fluid particles
 
     std::size_t bodyIndex(const std::string& name) const;
     /// Copies the kernel hooks whose stubs ran into missingHooks().
@@ -309,7 +337,8 @@ private:
     void endStep();
     /// e plus the energy of every spring, added one by one (J).
     double plusSpringEnergies(double e) const;
-    /// e plus the particles' gravitational and elastic energy (J); e itself without soft bodies.
+    /// e plus the soft bodies' particles' gravitational and elastic energy and the fluid's gravitational
+    /// energy (J); e itself without either.
     double plusSoftEnergies(double e) const;
 };
 

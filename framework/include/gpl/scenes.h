@@ -59,6 +59,13 @@ inline const StageSet kFrictionStages{Stage::ConstantAcceleration, Stage::Integr
 /// The stages of a scene of soft bodies (worksheet 8): the particles' step, the rigid bodies at rest.
 inline const StageSet kSoftStages{Stage::SoftPredict, Stage::SoftContacts, Stage::SoftProject, Stage::SoftVelocities};
 
+/// The stages of a scene of position-based fluid (worksheet 9): the particles' step, the rigid bodies at rest.
+inline const StageSet kFluidStages{Stage::FluidPredict, Stage::FluidNeighbours, Stage::FluidProject,
+                                   Stage::FluidVelocities};
+
+/// The stages of a scene of weakly compressible SPH (worksheet 9's comparison): one stage, in substeps.
+inline const StageSet kSphStages{Stage::FluidSph};
+
 /// Every scene: the course's and the student's (F11/F12).
 const SceneRegistry& scenes();
 
@@ -76,6 +83,7 @@ void addWorksheet6Scenes(SceneRegistry& registry);
 void addWorksheet7Scenes(SceneRegistry& registry);
 void addStackingScenes(SceneRegistry& registry);  // the contact solvers' test scenes (worksheet 7)
 void addWorksheet8Scenes(SceneRegistry& registry);  // cloth, ropes and soft bodies
+void addWorksheet9Scenes(SceneRegistry& registry);  // fluids
 void addStudentScenes(SceneRegistry& registry);  // defined in assignments/student_scenes.cpp
 
 }  // namespace gpl

@@ -25,6 +25,11 @@ enum class Stage {
     SoftContacts,          ///< soft bodies: particles near rigid bodies and near each other, once per step (worksheet 8)
     SoftProject,           ///< soft bodies: sweeps of the constraint and contact kernels over the predictions (worksheet 8)
     SoftVelocities,        ///< soft bodies: velocities from the corrected predictions, which become the positions (worksheet 8)
+    FluidPredict,          ///< fluids: velocities by gravity, predicted positions (worksheet 9)
+    FluidNeighbours,       ///< fluids: every particle's neighbours, once per step (worksheet 9)
+    FluidProject,          ///< fluids: sweeps of the density constraints and the rigid bodies' push (worksheet 9)
+    FluidVelocities,       ///< fluids: velocities from the corrected predictions, XSPH, new positions (worksheet 9)
+    FluidSph,              ///< fluids: weakly compressible SPH's step in substeps, the comparison (worksheet 9)
     Count
 };
 

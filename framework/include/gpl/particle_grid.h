@@ -1,0 +1,51 @@
+// The fluids' neighbour search (worksheet 9): every particle's neighbours, the other particles
+// nearer to it than the smoothing length h, from a uniform grid of cells of side h.
+//
+// find() files the particles under their cells by a counting sort (count the particles of each
+// cell, sum the counts into each cell's first entry, then place each particle), so that the
+// particles of a cell lie together; each particle then tests only the particles of its own cell
+// and the 26 around it, since a particle nearer than h lies at most one cell away. The grid spans
+// the particles' bounding box; where that box is so large for the particles' number that the cells
+// would outnumber them many times (a few particles flung far away), the cells grow wider than h,
+// which keeps the search exact and its memory bounded. The neighbours are kept as one list per
+// particle (compressed rows: particle i's are list()[start(i)] to list()[start(i + 1) - 1]), each
+// ascending. Buffers are kept from call to call: once they have grown, find() allocates nothing.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gpl/math.h"
+
+namespace gpl {
+
+class ParticleGrid {
+public:
+    /// Finds the neighbours of every point: the others at a distance below h (m, > 0; finite
+    /// points). A point at exactly h is not a neighbour (the kernels vanish there).
+    void find(const std::vector<Vec3>& points, double h);
+
+    /// Particle i's neighbours: indices list()[start(i)] .. list()[start(i + 1) - 1], ascending.
+    std::uint32_t start(std::size_t i) const { return start_[i]; }
+    std::uint32_t count(std::size_t i) const { return start_[i + 1] - start_[i]; }
+    const std::vector<std::uint32_t>& list() const { return list_; }
+    /// Neighbour pairs counted twice (i's list holds j and j's holds i).
+    std::size_t total() const { return list_.size(); }
+    /// The grid of the last search: cells along each axis and the cells' side (m, >= h).
+    const std::array<int, 3>& cells() const { return cells_; }
+    double cellSide() const { return side_; }
+
+private:
+    std::array<int, 3> cells_{0, 0, 0};
+    double side_ = 0.0;
+    Vec3 origin_ = Vec3::Zero();
+    std::vector<std::uint32_t> cellOf_;     ///< per point: its cell
+    std::vector<std::uint32_t> cellStart_;  ///< per cell + 1: its first entry in sorted_
+    std::vector<std::uint32_t> sorted_;     ///< the points ordered by cell
+    std::vector<std::uint32_t> start_;      ///< per point + 1: its first neighbour in list_
+    std::vector<std::uint32_t> list_;       ///< every point's neighbours, one row after another
+};
+
+}  // namespace gpl

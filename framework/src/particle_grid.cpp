@@ -1,0 +1,89 @@
+// The fluids' neighbour search: a counting sort of the particles into a uniform grid, then each
+// particle's 27 cells (particle_grid.h).
+#include "gpl/particle_grid.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace gpl {
+namespace {
+namespace neighbourgrid {
+
+/// Most cells the grid has per particle: more would cost memory and time for empty cells.
+constexpr double kCellsPerParticle = 4.0;
+
+int cellCoordinate(double offset, double side, int cells) {
+    return std::clamp(static_cast<int>(std::floor(offset / side)), 0, cells - 1);
+}
+
+}  // namespace neighbourgrid
+}  // namespace
+
+void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
+    using namespace neighbourgrid;
+    assert(h > 0.0);
+    const std::size_t n = points.size();
+    start_.assign(n + 1, 0);
+    list_.clear();
+    if (n == 0) return;
+
+    // The grid: the points' bounding box in cells of side h, wider where they would be too many.
+    Vec3 lower = points[0], upper = points[0];
+    for (const Vec3& q : points) {
+        lower = lower.cwiseMin(q);
+        upper = upper.cwiseMax(q);
+    }
+    const Vec3 extent = upper - lower;
+    side_ = h;
+    const double most = kCellsPerParticle * static_cast<double>(n) + 64.0;
+    while ((std::floor(extent.x() / side_) + 1) * (std::floor(extent.y() / side_) + 1) *
+               (std::floor(extent.z() / side_) + 1) > most)
+        side_ *= 2.0;
+    origin_ = lower;
+    for (int a = 0; a < 3; ++a) cells_[a] = static_cast<int>(std::floor(extent[a] / side_)) + 1;
+    const std::size_t cellCount = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
+
+    // Counting sort: each cell's count, then its first entry, then the points in place.
+    cellOf_.resize(n);
+    cellStart_.assign(cellCount + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 offset = points[i] - origin_;
+        const int cx = cellCoordinate(offset.x(), side_, cells_[0]);
+        const int cy = cellCoordinate(offset.y(), side_, cells_[1]);
+        const int cz = cellCoordinate(offset.z(), side_, cells_[2]);
+        cellOf_[i] = static_cast<std::uint32_t>((cz * cells_[1] + cy) * cells_[0] + cx);
+        ++cellStart_[cellOf_[i] + 1];
+    }
+    for (std::size_t c = 0; c < cellCount; ++c) cellStart_[c + 1] += cellStart_[c];
+    sorted_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) sorted_[cellStart_[cellOf_[i]]++] = static_cast<std::uint32_t>(i);
+    // Placing moved each cell's start to its end, which is the next cell's start: shift back.
+    for (std::size_t c = cellCount; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
+    cellStart_[0] = 0;
+
+    // Each point's neighbours from its own cell and the 26 around it.
+    const double h2 = h * h;
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t cell = cellOf_[i];
+        const int cx = static_cast<int>(cell % cells_[0]);
+        const int cy = static_cast<int>(cell / cells_[0] % cells_[1]);
+        const int cz = static_cast<int>(cell / cells_[0] / cells_[1]);
+        const std::size_t first = list_.size();
+        for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, cells_[2] - 1); ++z) {
+            for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, cells_[1] - 1); ++y) {
+                for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, cells_[0] - 1); ++x) {
+                    const std::size_t c = (static_cast<std::size_t>(z) * cells_[1] + y) * cells_[0] + x;
+                    for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
+                        const std::uint32_t j = sorted_[k];
+                        if (j != i && (points[j] - points[i]).squaredNorm() < h2) list_.push_back(j);
+                    }
+                }
+            }
+        }
+        std::sort(list_.begin() + static_cast<std::ptrdiff_t>(first), list_.end());
+        start_[i + 1] = static_cast<std::uint32_t>(list_.size());
+    }
+}
+
+}  // namespace gpl
