@@ -519,7 +519,8 @@ double stretchOf(const SoftBodies& soft, std::size_t mesh, int k) {
 GRADED_TEST(Worksheet8, PinnedParticlesNeverMove, 2,
             "A swinging rope pinned at one end and a cloth pinned at two corners: the pinned particles (w = 0) stay "
             "exactly where they are in every step, and the rest hang from them. solveDistanceConstraint() must move "
-            "a particle by w dlambda grad C, nothing when w = 0.",
+            "a particle by w dlambda grad C, nothing when w = 0; and simulationTimestep() must run the four soft stages, or "
+            "nothing swings.",
             grading::dependsOn("DistanceMovesAlongTheLine"), grading::dependsOn("DistanceProjectionRestoresRestLength"),
             grading::timeLimit(20)) {
     PhysicsEngine& e = engine;
@@ -550,7 +551,10 @@ GRADED_TEST(Worksheet8, PinnedParticlesNeverMove, 2,
     // 1 m (the rope; the cloth's farthest particle is 0.75 m along its edges); the links stretch by
     // alpha T, a fraction of a percent, so a tenth more is far from what holds and far below a fall of metres.
     const double reach = 1.1 * (r.end - r.start).norm();
+    const SoftMesh& ropeMesh = soft.meshes[rope];
+    double deepestDrop = 0.0;
     grading::steps(e, 300, [&](int k) {
+        deepestDrop = std::max(deepestDrop, start[ropeMesh.first].y() - soft.x[ropeMesh.first + ropeMesh.count - 1].y());
         for (const std::size_t i : pinned) {
             ASSERT_TRUE(soft.x[i] == start[i]) << "step " << k << ": pinned particle " << i << " moved from "
                                                << str(start[i]) << " to " << str(soft.x[i]);
@@ -565,6 +569,11 @@ GRADED_TEST(Worksheet8, PinnedParticlesNeverMove, 2,
                                       << " m from its nearest pin: it no longer hangs from it";
         }
     });
+    if (HasFailure()) return;
+    // And the free particles did swing down: the rope's free end, released level with its pin 1 m
+    // away, swings more than half its length below it (a rope that never moved stays level).
+    EXPECT_GT(deepestDrop, 0.5 * (r.end - r.start).norm())
+        << "the rope's free end came at most " << deepestDrop << " m below its pin in 3 s: it did not swing down";
 }
 
 GRADED_TEST(Worksheet8, HangingXpbdChainReachesStaticStretch, 3,
@@ -626,7 +635,8 @@ GRADED_TEST(Worksheet8, PbdChainStiffensWithIterations, 2,
 GRADED_TEST(Worksheet8, SoftCubeKeepsItsVolume, 2,
             "A soft cube (soft edges, incompressible tetrahedra) resting on the floor keeps its volume: every "
             "step's sweeps restore each tetrahedron's rest volume with solveVolumeConstraint(), whose moves must "
-            "follow the gradients of V (each the opposite face's cross product over 6, pointing away from it).",
+            "follow the gradients of V (each the opposite face's cross product over 6, pointing away from it). It must also "
+            "fall onto the floor: simulationTimestep() runs the four soft stages.",
             grading::dependsOn("VolumeOneFreeCornerRestoredExactly"), grading::dependsOn("VolumeAllFreeSecondOrder"),
             grading::timeLimit(20)) {
     PhysicsEngine& e = engine;
@@ -654,6 +664,10 @@ GRADED_TEST(Worksheet8, SoftCubeKeepsItsVolume, 2,
     double lowest = std::numeric_limits<double>::infinity();
     for (const Vec3& x : e.softBodies().x) lowest = std::min(lowest, x.y());
     EXPECT_GT(lowest, -0.5 * side) << "the cube did not stay above the floor";
+    // It fell the 5 cm to the floor: its lowest particle rests on it, its centre one particle radius
+    // (1 cm) up, with as much again for the sweeps' remainder (one that never moved stays 5 cm up).
+    EXPECT_LT(lowest, 2.0 * cube.radius) << "the cube's lowest particle is " << lowest
+                                         << " m above the floor: it never landed";
 }
 
 // A cloth of n x n particles 0.05 m apart, level at height y, centred over (cx, cz); XPBD.
@@ -706,7 +720,8 @@ GRADED_TEST(Worksheet8, NoParticleEndsInsideSphereOrBox, 2,
 GRADED_TEST(Worksheet8, ClothOnSphereGainsNoEnergy, 2,
             "Cloth dropped on a ball with friction: its energy (kinetic and gravitational; its links are rigid) "
             "never exceeds what it started with, and it comes to lie on the ball. A projection that overshoots, or moves "
-            "particles the wrong way, feeds energy in.",
+            "particles the wrong way, feeds energy in. A cloth that never falls (a soft stage left out of "
+            "simulationTimestep()) fails too.",
             grading::dependsOn("DistanceComplianceClosedForm"), grading::dependsOn("SphereInsideMovesToSurface"),
             grading::timeLimit(30)) {
     PhysicsEngine& e = engine;
@@ -736,6 +751,10 @@ GRADED_TEST(Worksheet8, ClothOnSphereGainsNoEnergy, 2,
     centre /= static_cast<double>(e.softBodies().x.size());
     EXPECT_GT(centre.y(), e.body("ball").position.y()) << "the cloth's centre of mass ended at " << str(centre)
                                                       << ": it does not lie on the ball";
+    // And it came down onto it: the ball's top is 0.4 m below the cloth's start, and a draped cloth's
+    // centre of mass lies below the top (a cloth that never moved stays at 1.2 m).
+    EXPECT_LT(centre.y(), e.body("ball").position.y() + R) << "the cloth's centre of mass ended at " << str(centre)
+                                                           << ", above the ball's top: it never fell onto it";
 }
 
 }  // namespace
