@@ -31,13 +31,13 @@ struct FluidNeighbour {
     Vec3 x = Vec3::Zero();  ///< position (m)
     Vec3 v = Vec3::Zero();  ///< velocity (m/s)
     double density = 0.0;   ///< rho_j (kg/m^3)
-    double lambda = 0.0;    ///< PBF's multiplier lambda_j (dimensionless)
+    double lambda = 0.0;    ///< PBF's multiplier lambda_j (m^2: C is dimensionless, grad C in 1/m)
 };
 
 /// The tensile correction of PBF: s_corr = -k (W(|x_i - x_j|, h) / W(dq, h))^n, which pushes
 /// apart the particles of a sparse surface that the density constraint alone pulls into clumps.
 struct TensileCorrection {
-    double k = 0.0;   ///< strength (dimensionless, >= 0; 0: none)
+    double k = 0.0;   ///< strength (m^2, as the multipliers it is added to; >= 0; 0: none)
     double dq = 0.0;  ///< the distance at which |s_corr| = k (m, 0 < dq < h)
     int n = 4;        ///< exponent (>= 1)
 };
