@@ -108,7 +108,7 @@ class Submission(unittest.TestCase):
         (self.tmp / "empty").mkdir()
         results = self.tmp / "results.json"
         for args, message in [(("--submission", self.tmp / "empty"), "holds none of the hook files"),
-                              (("--submission", sub, "--worksheet", "9"), "no graded tests for worksheet 9; the worksheets"),
+                              (("--submission", sub, "--worksheet", "10"), "no graded tests for worksheet 10; the worksheets"),
                               (("--submission", sub, "--worksheet", "x"), "(./lab grade --help for help)"),
                               (("--submission", sub, "--colour"), "unrecognized arguments: --colour"),
                               (("--submission", sub, "--solutions"), "not allowed with argument"),

@@ -720,8 +720,8 @@ class CommandLine(unittest.TestCase):
                               (["grade", "--build-dir", "b", "--timeout", "0"], "--timeout must be a positive"),
                               (["grade", "--build-dir", "b", "--memory", "-5"], "--memory must be a positive"),
                               (["report", "--checker", env_path("GPL_CHECKER"), "--hooks",
-                                env_path("GPL_HOOKS_SOLUTIONS"), "--worksheet", "9"],
-                               "no graded tests for worksheet 9; the worksheets with graded tests: 1, 2"),
+                                env_path("GPL_HOOKS_SOLUTIONS"), "--worksheet", "10"],
+                               "no graded tests for worksheet 10; the worksheets with graded tests: 1, 2"),
                               (["report", "--checker", "c", "--hooks", "h", "--worksheet", "x"],
                                "invalid int value: 'x' (./lab grade --help for help)"),
                               (["report", "--checker", "/nonexistent", "--hooks", env_path("GPL_HOOKS_SOLUTIONS")],
@@ -873,12 +873,12 @@ class Hooks(unittest.TestCase):
         # What grader.alternative.* runs: the tests of the hook's worksheet and the later ones.
         for extra, says in [(["--expect", "full", "--worksheet", "5"], "--from-worksheet goes with --expect"),
                             (["--mutant", "x"], "--from-worksheet goes with --expect"),
-                            (["--expect", "full"], "no graded tests for worksheet 9 or later; the worksheets with "
+                            (["--expect", "full"], "no graded tests for worksheet 10 or later; the worksheets with "
                                                    "graded tests: 1, 2")]:
             with self.subTest(extra=extra):
                 proc = subprocess.run([sys.executable, str(ROOT / "tools" / "grade.py"), "selfcheck", "--checker",
                                        env_path("GPL_CHECKER"), "--hooks", env_path("GPL_HOOKS_SOLUTIONS"),
-                                       "--from-worksheet", "9", *extra], capture_output=True, text=True)
+                                       "--from-worksheet", "10", *extra], capture_output=True, text=True)
                 self.assertEqual(proc.returncode, 2, proc.stdout[-500:])
                 self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
                 self.assertIn(says, proc.stderr)
