@@ -34,8 +34,7 @@ inline std::string fluidText(const Fluid& f) {
 /// The spiky kernel itself, W = 15 / (pi h^6) (h - r)^3 for r <= h (1/m^3): the function whose gradient
 /// spikyGradient() returns, as the worksheet defines it.
 inline double spikyValue(double r, double h) {
-    if (r > h) return 0.0;
-    return 15.0 / (kFluidPi * std::pow(h, 6)) * std::pow(h - r, 3);
+    return r <= h ? 15.0 / (kFluidPi * std::pow(h, 6)) * std::pow(h - r, 3) : 0.0;
 }
 
 /// How many sites (i, j, k) of the cubic lattice have i^2 + j^2 + k^2 = n, for every n up to N^2:

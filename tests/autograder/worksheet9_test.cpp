@@ -297,8 +297,8 @@ GRADED_TEST(Worksheet9, DensityLinearInMass, 1,
 double gradientSquares(const Vec3& x, const std::vector<FluidNeighbour>& neighbours, const Fluid& f) {
     double S = 0.0;
     Vec3 own = Vec3::Zero();
-    for (const FluidNeighbour& j : neighbours) {
-        const Vec3 g = -(f.mass() / f.rho0) * spikyGradient(x - j.x, f.h);
+    for (const FluidNeighbour& other : neighbours) {
+        const Vec3 g = -(f.mass() / f.rho0) * spikyGradient(x - other.x, f.h);
         S += g.squaredNorm();
         own -= g;
     }
