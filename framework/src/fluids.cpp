@@ -153,9 +153,8 @@ void Fluids::gather(std::size_t i, const std::vector<Vec3>& positions) {
     }
 }
 
-bool Fluids::pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3& normal) const {
+void Fluids::pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3* velocity) const {
     const double r = radius();
-    bool pushed = false;
     for (const Body& body : bodies) {
         Vec3 moved = q;
         switch (body.shape) {
@@ -170,11 +169,14 @@ bool Fluids::pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3& normal) con
                 break;
         }
         if (moved == q) continue;
-        normal = (moved - q).normalized();
+        if (velocity) {
+            // No velocity into this body stays (in a corner, into each of its walls).
+            const Vec3 normal = (moved - q).normalized();
+            const double into = velocity->dot(normal);
+            if (into < 0.0) *velocity -= into * normal;
+        }
         q = moved;
-        pushed = true;
     }
-    return pushed;
 }
 
 // ---- PBF ---------------------------------------------------------------------------------------
@@ -213,8 +215,7 @@ void Fluids::project(const std::vector<Body>& bodies) {
         }
         for (std::size_t i = 0; i < x.size(); ++i) p[i] += delta_[i];
         // The rigid bodies push the particles out.
-        Vec3 normal;
-        for (std::size_t i = 0; i < x.size(); ++i) pushOut(p[i], bodies, normal);
+        for (std::size_t i = 0; i < x.size(); ++i) pushOut(p[i], bodies, nullptr);
     }
 }
 
@@ -277,11 +278,7 @@ void Fluids::stepSph(double h, const Vec3& gravity, const std::vector<Body>& bod
         for (std::size_t i = 0; i < x.size(); ++i) {
             v[i] += dt * delta_[i];
             x[i] += dt * v[i];
-            Vec3 normal;
-            if (pushOut(x[i], bodies, normal)) {
-                const double into = v[i].dot(normal);
-                if (into < 0.0) v[i] -= into * normal;
-            }
+            pushOut(x[i], bodies, &v[i]);
             p[i] = x[i];
         }
     }

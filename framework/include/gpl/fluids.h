@@ -156,9 +156,9 @@ private:
     /// neighbours_ := particle i's neighbours at `positions`, with their velocities, densities and
     /// multipliers.
     void gather(std::size_t i, const std::vector<Vec3>& positions);
-    /// q pushed out of every rigid plane, box and sphere (a particle of radius()); the direction of
-    /// the last push in `normal` (unchanged when none pushed). True when one did.
-    bool pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3& normal) const;
+    /// q pushed out of every rigid plane, box and sphere in turn (a particle of radius()); with a
+    /// velocity, each body that pushes also takes the velocity's part into it.
+    void pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3* velocity) const;
     void requireInside(const Vec3& q, const char* what) const;
 };
 
