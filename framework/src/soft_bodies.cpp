@@ -29,6 +29,10 @@ double surfaceGap(const Body& body, const Vec3& q) {
     return std::numeric_limits<double>::infinity();
 }
 
+// How near a particle's sphere lies to a body's surface to touch it, relative to the particle's
+// radius: the rounding of a push out, far below any move of a step.
+constexpr double kTouching = 1e-6;
+
 // A particle of radius r at q pushed out of a plane (its centre at distance r in front of it).
 Vec3 projectParticlePlane(const Vec3& q, double r, const Vec3& point, const Vec3& normal) {
     const double gap = (q - point).dot(normal) - r;
@@ -183,6 +187,7 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
     for (ParticleContact& c : contacts) {
         c.pushed = false;
         c.depth = 0.0;
+        c.friction = Vec3::Zero();
     }
     for (int iteration = 0; iteration < iterations; ++iteration) {
         for (const SoftMesh& mesh : meshes) {
@@ -238,9 +243,9 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         }
         // Contacts last, so that no particle ends a sweep inside a body.
         pushSelfPairs();
-        pushOutOfBodies(bodies);
+        pushOutOfBodies(h, bodies);
     }
-    applyFriction(h, bodies);
+    catchMissedContacts(bodies);
 }
 
 void SoftBodies::pushSelfPairs() {
@@ -257,50 +262,92 @@ void SoftBodies::pushSelfPairs() {
     }
 }
 
-void SoftBodies::pushOutOfBodies(const std::vector<Body>& bodies) {
+// A particle of radius r pushed out of a rigid plane, sphere or box by the kernels; its own place
+// when it lies r or farther from the body.
+Vec3 SoftBodies::pushedOut(const Body& body, const Vec3& q, double r) const {
+    switch (body.shape) {
+        case Shape::Plane:
+            return projectParticlePlane(q, r, body.position, body.orientation * body.normal);
+        case Shape::Sphere:
+            return projectParticleSphere(q, r, body.position, body.radius);
+        case Shape::Box:
+            return projectParticleBox(q, r, body.position, body.orientation, body.halfExtents);
+    }
+    return q;
+}
+
+void SoftBodies::pushOutOfBodies(double h, const std::vector<Body>& bodies) {
     for (ParticleContact& contact : contacts) {
         const std::uint32_t i = contact.particle;
         const Body& body = bodies[contact.body];
         const double r = meshes[meshOf[i]].radius;
-        Vec3 moved = p[i];
-        switch (body.shape) {
-            case Shape::Plane:
-                moved = projectParticlePlane(p[i], r, body.position, body.orientation * body.normal);
-                break;
-            case Shape::Sphere:
-                moved = projectParticleSphere(p[i], r, body.position, body.radius);
-                break;
-            case Shape::Box:
-                moved = projectParticleBox(p[i], r, body.position, body.orientation, body.halfExtents);
-                break;
+        // Friction acts while the particle touches the body: pushed now, or pushed earlier in this
+        // step and still on the surface (a later sweep may pull it along the surface, not into it).
+        // Its move lies in the plane of the last push. Just pushed, the particle lies on that plane,
+        // which touches the body (a sphere, a box or a plane: convex) and has all of it on one side,
+        // so the move keeps it out; otherwise it is pushed out again after the move.
+        if (push(contact, pushedOut(body, p[i], r), r)) {
+            applyFriction(contact, h, body);
+        } else if (contact.pushed && surfaceGap(body, p[i]) <= r * (1.0 + kTouching)) {
+            if (applyFriction(contact, h, body)) push(contact, pushedOut(body, p[i], r), r);
         }
-        if (moved == p[i]) continue;
-        const Vec3 push = moved - p[i];
-        const double depth = push.norm();
-        p[i] = moved;
-        contact.normal = push / depth;
-        contact.depth += depth;
-        contact.pushed = true;
     }
 }
 
-void SoftBodies::applyFriction(double h, const std::vector<Body>& bodies) {
-    // Positional friction (Mueller et al., unified particle physics): the particle's move along the
-    // surface in this step, relative to the body's at that point, is held below mu_s times the
-    // step's push and slowed by mu_d times it above.
-    for (ParticleContact& contact : contacts) {
-        if (!contact.pushed) continue;
-        const std::uint32_t i = contact.particle;
-        const Body& body = bodies[contact.body];
-        const Vec3& n = contact.normal;
-        contact.bodyVelocity = body.velocity + body.angularVelocity.cross(p[i] - body.position);
-        const Vec3 relative = (p[i] - x[i]) - h * contact.bodyVelocity;
-        const Vec3 tangential = relative - relative.dot(n) * n;
-        const double slide = tangential.norm();
-        if (slide < body.staticFriction * contact.depth) {
-            p[i] -= tangential;
-        } else {
-            p[i] -= std::min(body.friction * contact.depth / slide, 1.0) * tangential;
+bool SoftBodies::push(ParticleContact& contact, const Vec3& moved, double r) {
+    Vec3& q = p[contact.particle];
+    const Vec3 push = moved - q;
+    const double depth = push.norm();
+    q = moved;
+    // A push of the rounding's size (a particle on the surface) points anywhere: not the surface's normal.
+    if (depth <= kTouching * r) return false;
+    contact.normal = push / depth;
+    contact.depth += depth;
+    contact.pushed = true;
+    return true;
+}
+
+bool SoftBodies::applyFriction(ParticleContact& contact, double h, const Body& body) {
+    // Positional friction (Mueller et al., unified particle physics) whose sum over the step's sweeps
+    // keeps within the Coulomb cone of the step's summed push, as worksheet 7's sequential impulses
+    // keep the summed friction impulse within mu times the summed normal one: the particle's slide
+    // along the surface in this step so far, relative to the body's at that point, is stopped when
+    // the step's friction would then stay below mu_s times the step's push; otherwise the step's
+    // friction is mu_d times the push, against the slide. Each move lies along the surface.
+    const std::uint32_t i = contact.particle;
+    const Vec3& n = contact.normal;
+    contact.bodyVelocity = body.velocity + body.angularVelocity.cross(p[i] - body.position);
+    const Vec3 relative = (p[i] - x[i]) - h * contact.bodyVelocity;
+    const Vec3 slide = relative - relative.dot(n) * n;
+    const Vec3 held = contact.friction - contact.friction.dot(n) * n;  // this step's friction so far
+    Vec3 total = held - slide;                                         // stopping the slide
+    const double stopping = total.norm();
+    if (stopping > body.staticFriction * contact.depth) total *= std::min(body.friction * contact.depth / stopping, 1.0);
+    const Vec3 move = total - held;
+    contact.friction = total;
+    if (move == Vec3::Zero()) return false;
+    p[i] += move;
+    return true;
+}
+
+void SoftBodies::catchMissedContacts(const std::vector<Body>& bodies) {
+    // A particle the sweeps' constraints pulled into a body that findContacts() did not expect near
+    // it: pushed out once more and kept as a contact, so that its velocity into the body goes too.
+    for (std::uint32_t b = 0; b < bodies.size(); ++b) {
+        const Body& body = bodies[b];
+        for (std::uint32_t i = 0; i < x.size(); ++i) {
+            const double r = meshes[meshOf[i]].radius;
+            if (w[i] == 0.0 || surfaceGap(body, p[i]) >= r * (1.0 - kTouching)) continue;
+            const auto known = std::find_if(contacts.begin(), contacts.end(), [&](const ParticleContact& c) {
+                return c.particle == i && c.body == b;
+            });
+            if (known != contacts.end()) continue;
+            ParticleContact c;
+            c.particle = i;
+            c.body = b;
+            c.bodyVelocity = body.velocity + body.angularVelocity.cross(p[i] - body.position);
+            push(c, pushedOut(body, p[i], r), r);
+            contacts.push_back(c);
         }
     }
 }

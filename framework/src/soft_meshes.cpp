@@ -168,7 +168,35 @@ std::size_t SoftBodies::meshIndex(const std::string& name) const {
     throw std::out_of_range("no soft mesh named '" + name + "'");
 }
 
+std::vector<std::uint32_t> sweepOrder(const std::vector<DistanceLink>& links, std::size_t particles) {
+    // Each link's wave: the first after the waves of every earlier link that shares a particle with
+    // it. A link's wave is then later than that of each earlier link it shares a particle with, and
+    // the links of one wave share none.
+    std::vector<std::uint32_t> nextWave(particles, 0);  // per particle: the wave after its last link's
+    std::vector<std::uint32_t> wave(links.size());
+    std::uint32_t waves = 0;
+    for (std::size_t k = 0; k < links.size(); ++k) {
+        const std::uint32_t i = links[k].i, j = links[k].j;
+        wave[k] = std::max(nextWave[i], nextWave[j]);
+        nextWave[i] = nextWave[j] = wave[k] + 1;
+        waves = std::max(waves, wave[k] + 1);
+    }
+    // Wave after wave, each in the links' order (a counting sort).
+    std::vector<std::uint32_t> start(waves + 1, 0);
+    for (std::uint32_t w : wave) ++start[w + 1];
+    for (std::uint32_t w = 0; w < waves; ++w) start[w + 1] += start[w];
+    std::vector<std::uint32_t> order(links.size());
+    for (std::size_t k = 0; k < links.size(); ++k) order[start[wave[k]]++] = static_cast<std::uint32_t>(k);
+    return order;
+}
+
 std::size_t SoftBodies::addMesh(SoftMesh mesh) {
+    // The mesh's links stored in sweep order (sweepOrder()): the sweeps' results are those of the
+    // order they were built in, to the bit.
+    const auto first = links.begin() + mesh.firstLink;
+    const std::vector<DistanceLink> built(first, first + mesh.linkCount);
+    const std::vector<std::uint32_t> order = sweepOrder(built, x.size());
+    for (std::size_t k = 0; k < order.size(); ++k) first[static_cast<std::ptrdiff_t>(k)] = built[order[k]];
     meshes.push_back(std::move(mesh));
     force_.resize(x.size(), Vec3::Zero());
     return meshes.size() - 1;

@@ -7,8 +7,9 @@
 //   findContacts()     which particles lie near the rigid bodies' planes, spheres and boxes, and
 //                      which cloth particles lie near each other (a spatial hash)
 //   project()          iterations sweeps: every constraint (distance, volume) with its kernel
-//                      (soft_constraints.h), then the contacts; lambda starts at 0 each step;
-//                      then friction where a rigid body pushed a particle
+//                      (soft_constraints.h), then the contacts, each pushed out and held by
+//                      friction; lambda starts at 0 each step; then a particle the sweeps pulled
+//                      into a body that findContacts() did not find near it is pushed out
 //   updateVelocities() v = (p - x) / h; x = p
 // A mesh is PBD or XPBD (SoftMethod): XPBD uses each constraint's compliance; PBD ignores lambda and
 // scales each projection with alpha = 0 by the per-iteration stiffness 1 - (1 - k)^(1/n), so what
@@ -81,12 +82,23 @@ struct ParticleContact {
     Vec3 normal = Vec3::UnitY();     ///< the direction of the last push out of the body (unit)
     Vec3 bodyVelocity = Vec3::Zero();  ///< the body's velocity at the particle then (m/s)
     double depth = 0.0;              ///< how far the body pushed the particle in this step's sweeps (m)
+    Vec3 friction = Vec3::Zero();    ///< the friction's moves of the particle in this step's sweeps, summed (m)
     bool pushed = false;             ///< the body pushed the particle out during this step
 };
 
+/// The order in which a mesh's links are stored, and so swept: order[k] is the index among `links`
+/// (as built) of the link stored at k. Links that share a particle keep the order they were built
+/// in, so a sweep gives the same result to the bit as in the built order; and they come in waves of
+/// links that share no particle (each link in the first wave after those of the earlier links it
+/// shares a particle with), so that one projection need not wait for the move the one before made.
+/// A grid's rows, swept one link after the other, then lie side by side and the processor projects
+/// several links at once; a chain keeps its order. `particles`: more than any index in links.
+std::vector<std::uint32_t> sweepOrder(const std::vector<DistanceLink>& links, std::size_t particles);
+
 /// A rectangular cloth of nx x ny particles (nx, ny >= 2), the grid spanning `origin` to
 /// origin + (nx - 1) spacing u + (ny - 1) spacing v, u and v unit and perpendicular. Particle (i, j)
-/// starts at origin + spacing (i u + j v). Its constraints, in this order:
+/// starts at origin + spacing (i u + j v). Its constraints, built in this order (and stored in
+/// sweepOrder()):
 ///   stretch  the grid's edges: (nx - 1) ny + nx (ny - 1) links
 ///   shear    both diagonals of every cell: 2 (nx - 1)(ny - 1) links
 ///   bend     for every inner edge of the grid (an edge between two cells), the two corners
@@ -198,12 +210,18 @@ public:
     /// Lambdas to 0, then `iterations` sweeps, each: every mesh's links with
     /// solveDistanceConstraint() and volumes with solveVolumeConstraint(); the self-collision
     /// pairs pushed to two radii apart (shared by inverse mass); every contact pushed out of its
-    /// body with projectParticleSphere(), projectParticleBox() or the plane's projection. Then
-    /// positional friction at every contact the body pushed: the particle's move along the
-    /// surface in this step, relative to the body's, is cancelled when below mu_s times the
-    /// step's push, otherwise shortened by mu_d times it (mu_s, mu_d: the body's staticFriction and
-    /// friction). Friction comes once, after the sweeps, so that it answers the whole step's pull of
-    /// the constraints (a sweep after the first that finds the particle on the surface pushes nothing).
+    /// body with projectParticleSphere(), projectParticleBox() or the plane's projection, and
+    /// while it touches the body (pushed in this sweep, or earlier in this step and still on the
+    /// surface) held by positional friction: its slide along the surface in this step so far,
+    /// relative to the body's, is stopped when the step's friction moves, summed, then stay within
+    /// mu_s times the step's pushes, summed; otherwise the summed friction is mu_d times the pushes,
+    /// against the slide (mu_s, mu_d: the body's staticFriction and friction; the Coulomb cone of
+    /// worksheet 7's sequential impulses, on moves). Friction inside the sweeps lets the next
+    /// sweep's links answer it, and each contact ends a sweep outside its body: the friction moves
+    /// along the plane of the last push, which touches the (convex) body, or is followed by a push.
+    /// After the sweeps, a free particle that the constraints pulled more than a millionth of its
+    /// radius into a body that findContacts() did not expect near it is pushed out and kept as a
+    /// contact: no particle ends the step inside a body.
     void project(double h, int iterations, const std::vector<Body>& bodies);
     /// v = (p - x) / h and x = p; a particle a body pushed keeps no velocity into it (relative to the
     /// body's at that point).
@@ -253,8 +271,14 @@ private:
     std::size_t addMesh(SoftMesh mesh);
     void collectSelfPairs(const SoftMesh& mesh, double travel);
     void pushSelfPairs();
-    void pushOutOfBodies(const std::vector<Body>& bodies);
-    void applyFriction(double h, const std::vector<Body>& bodies);
+    void pushOutOfBodies(double h, const std::vector<Body>& bodies);
+    Vec3 pushedOut(const Body& body, const Vec3& q, double r) const;
+    /// Moves the contact's particle (radius r) to `moved` and counts the push; false when it moves
+    /// no more than the rounding of a particle on the surface.
+    bool push(ParticleContact& contact, const Vec3& moved, double r);
+    /// The contact's friction in one sweep; false when it moves nothing.
+    bool applyFriction(ParticleContact& contact, double h, const Body& body);
+    void catchMissedContacts(const std::vector<Body>& bodies);
 };
 
 }  // namespace gpl
