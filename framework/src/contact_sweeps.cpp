@@ -1,12 +1,14 @@
 // The friction stage's sweeps (friction.h): a first pass that measures, prepares and warm starts
-// every point, then applyNormalImpulse() and applyFrictionImpulse() at every contact point,
-// contactIterations() times, with idle points skipped; a large stage in two Halves (halves.h), which
-// come first here.
+// every point, then at every contact its points' applyNormalImpulse() (twice for more than one
+// point) and applyFrictionImpulse(), contactIterations() times, with idle contacts skipped; a large
+// stage in two Halves (halves.h), which come first here.
 //
-// Skipping: per body, a version that counts its changes; per point, the versions of its two bodies
-// when it was last solved, and whether that solve changed nothing. Such a point is skipped while
-// both versions stand: the kernels are pure, so solving it again would change nothing.
+// Skipping: per body, a version that counts its changes; per contact (kept at its first point), the
+// versions of its two bodies when it was last solved, and whether that solve changed nothing. Such
+// a contact is skipped while both versions stand: the kernels are pure, so solving it again would
+// change nothing.
 #include <algorithm>
+#include <array>
 #include <functional>
 
 #include "gpl/friction.h"
@@ -224,22 +226,32 @@ void ContactSweeps::solve(Part& part, bool skipIdle) {
         Body& b = *job.b;
         std::uint32_t& versionA = *job.versionA;
         std::uint32_t& versionB = *job.versionB;
-        for (int k = 0; k < job.contact->pointCount; ++k) {
-            const std::size_t i = job.point + k;
-            if (skipIdle && part.idle[i] && part.seenA[i] == versionA && part.seenB[i] == versionB) continue;
-            PointImpulse& s = part.sums[i];
-            const PointImpulse sumWas = s;
-            const Vec3 va = a.velocity, wa = a.angularVelocity, vb = b.velocity, wb = b.angularVelocity;
-            applyNormalImpulse(part.points[i], a, b, s);
-            applyFrictionImpulse(part.points[i], a, b, s);
-            const bool aChanged = a.velocity != va || a.angularVelocity != wa;
-            const bool bChanged = b.velocity != vb || b.angularVelocity != wb;
-            if (aChanged) ++versionA;  // written only on a change: a store would claim the line
-            if (bChanged) ++versionB;
-            part.seenA[i] = versionA;
-            part.seenB[i] = versionB;
-            part.idle[i] = !aChanged && !bChanged && s.normal == sumWas.normal && s.tangent == sumWas.tangent;
+        // A contact is solved whole, as in the plain loop (friction.cpp): its points' normal
+        // impulses (twice for more than one point), then their friction; and skipped whole. Its
+        // first point holds the contact's record.
+        const std::size_t first = job.point;
+        const int count = job.contact->pointCount;
+        if (skipIdle && part.idle[first] && part.seenA[first] == versionA && part.seenB[first] == versionB) continue;
+        std::array<PointImpulse, kMaxContactPoints> sumsWere;
+        std::copy_n(&part.sums[first], count, sumsWere.begin());
+        const Vec3 va = a.velocity, wa = a.angularVelocity, vb = b.velocity, wb = b.angularVelocity;
+        const int normalPasses = count > 1 ? 2 : 1;
+        for (int pass = 0; pass < normalPasses; ++pass) {
+            for (int k = 0; k < count; ++k) applyNormalImpulse(part.points[first + k], a, b, part.sums[first + k]);
         }
+        for (int k = 0; k < count; ++k) applyFrictionImpulse(part.points[first + k], a, b, part.sums[first + k]);
+        const bool aChanged = a.velocity != va || a.angularVelocity != wa;
+        const bool bChanged = b.velocity != vb || b.angularVelocity != wb;
+        bool sumsChanged = false;
+        for (int k = 0; k < count; ++k) {
+            const PointImpulse& s = part.sums[first + k];
+            sumsChanged |= s.normal != sumsWere[k].normal || s.tangent != sumsWere[k].tangent;
+        }
+        if (aChanged) ++versionA;  // written only on a change: a store would claim the line
+        if (bChanged) ++versionB;
+        part.seenA[first] = versionA;
+        part.seenB[first] = versionB;
+        part.idle[first] = !aChanged && !bChanged && !sumsChanged;
     }
 }
 

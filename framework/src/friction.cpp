@@ -8,11 +8,12 @@
 //   3. warm starts: a point of the same pair of bodies as one of last step's, within
 //      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
 //      tangent plane), applied once with applyWarmStart(),
-//   4. sweeps contactIterations() times over every point: applyNormalImpulse(), then
-//      applyFrictionImpulse() against the normal sum just updated. A small stage runs the plain
-//      loop of FrictionStage::sweep(); a large one runs in two halves at once on the engine's
-//      second thread, skipping points that nothing has changed since they were last solved
-//      (ContactSweeps, contact_sweeps.cpp), with the same result to the bit,
+//   4. sweeps contactIterations() times over every contact: applyNormalImpulse() at each of its
+//      points (twice over when it has several: a face's points share its load), then
+//      applyFrictionImpulse() at each against the normal sum just updated. A small stage runs the
+//      plain loop of FrictionStage::sweep(); a large one runs in two halves at once on the
+//      engine's second thread, skipping contacts that nothing has changed since they were last
+//      solved (ContactSweeps, contact_sweeps.cpp), with the same result to the bit,
 //   5. moves every body by h times the change of its velocity in the stage and turns it by h times
 //      the change of its angular velocity: the integration stage moved the bodies with the
 //      velocities before the impulses, so each body ends the step where its new velocity takes it
@@ -269,14 +270,19 @@ void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>&
             if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(points_[i], bodies[con.a], bodies[con.b], s);
         }
     }
+    // Each sweep visits every contact once: the normal impulses of its points, twice when it has
+    // more than one (the points of a face share its load, and after one pass the first point holds
+    // more than its share, which the second pass hands on), then their friction, bounded by the
+    // normal sums as they now are.
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         for (std::size_t c = 0; c < contacts.size(); ++c) {
             Body& a = bodies[contacts[c].a];
             Body& b = bodies[contacts[c].b];
-            for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) {
-                applyNormalImpulse(points_[i], a, b, sums_[i]);
-                applyFrictionImpulse(points_[i], a, b, sums_[i]);
+            const int normalPasses = first_[c + 1] - first_[c] > 1 ? 2 : 1;
+            for (int pass = 0; pass < normalPasses; ++pass) {
+                for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) applyNormalImpulse(points_[i], a, b, sums_[i]);
             }
+            for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) applyFrictionImpulse(points_[i], a, b, sums_[i]);
         }
     }
 }

@@ -289,7 +289,7 @@ void addStackingScenes(SceneRegistry& r) {
     // and down the column, so twenty cubes need more sweeps than ten.
     r.add(softStep(scene("stack-10", "Ten cubes stacked exactly, soft step: they stand without drift or jitter.", stack10,
                          {0, 5, 0}, 24)));
-    r.add(sweeps(60, scene("stack-10-offset", "Ten cubes stacked off centre by turns, 60 sweeps: they stand still.",
+    r.add(sweeps(30, scene("stack-10-offset", "Ten cubes stacked off centre by turns, 30 sweeps: they stand still.",
                            stack10Offset, {0, 5, 0}, 24)));
     r.add(softStep(scene("stack-20", "Twenty cubes stacked exactly, soft step: the bottom contact carries 19; it stands.",
                          stack20, {0, 12, 0}, 48)));

@@ -157,18 +157,44 @@ TEST(RestingContact, ColumnOfTwentyCubesStandsAMinuteWithTheSoftStep) {
     expectStands("stack-20", 60.0);
 }
 
-TEST(RestingContact, OffCentreColumnOfTenStandsAMinuteWithSixtySweeps) {
-    // Sequential impulses with the sixty sweeps the scene declares (with ten it sways and falls).
+TEST(RestingContact, OffCentreColumnOfTenStandsAMinuteWithThirtySweeps) {
+    // Sequential impulses with the thirty sweeps the scene declares (with ten it still settles
+    // after ten seconds).
     const Scene& scene = scenes().find("stack-10-offset");
     ASSERT_EQ(scene.contactSolver, ContactSolver::SequentialImpulses);
-    ASSERT_EQ(scene.contactIterations, 60);
+    ASSERT_EQ(scene.contactIterations, 30);
     expectStands("stack-10-offset", 60.0);
+}
+
+TEST(RestingContact, OffCentreColumnOfTenStandsShiftedByATenthOfAMillimetre) {
+    // The same column with every cube moved a tenth of a millimetre sideways, to left and right by
+    // turns: the faces' points now carry unequal loads from the first step, and a solver that
+    // balances them only by chance lets the column sway.
+    PhysicsEngine e;
+    load(e, scenes().find("stack-10-offset"));
+    int k = 0;
+    for (Body& b : e.bodies()) {
+        if (!b.isStatic()) b.position.x() += (k++ % 2 == 0 ? -1e-4 : 1e-4);
+    }
+    const std::vector<Body> start = e.bodies();
+    const int steps = static_cast<int>(std::lround(60.0 / e.timeStep()));
+    const int lastSecond = steps - static_cast<int>(std::lround(1.0 / e.timeStep()));
+    double fastest = 0.0, drift = 0.0;
+    for (int s = 1; s <= steps; ++s) {
+        e.step();
+        if (s > lastSecond) {
+            for (const Body& b : e.bodies()) fastest = std::max(fastest, fastestPoint(b));
+        }
+    }
+    for (std::size_t i = 0; i < start.size(); ++i) drift = std::max(drift, (e.bodies()[i].position - start[i].position).norm());
+    EXPECT_LT(drift, 0.01) << "a cube ended this far from its start (m)";
+    EXPECT_LT(fastest, 1e-3) << "a point still moved this fast in the last second (m/s)";
 }
 
 TEST(RestingContact, OffCentreColumnOfTwentyStandsAMinuteWith150Sweeps) {
     // Twice the column of ten: its bottom contact carries nineteen cubes off centre, and the sweeps
     // must carry every weight through twice as many contacts (with sixty it still sways after a
-    // minute; under the soft step it buzzes).
+    // minute, with a hundred it stands with less margin; under the soft step it buzzes).
     const Scene& scene = scenes().find("stack-20-offset");
     ASSERT_EQ(scene.contactSolver, ContactSolver::SequentialImpulses);
     ASSERT_EQ(scene.contactIterations, 150);
