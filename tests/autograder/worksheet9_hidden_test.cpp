@@ -40,7 +40,8 @@ GRADED_TEST(Worksheet9Hidden, Poly6AtOtherLengths, 2,
             sum += static_cast<double>(shells[n]) * poly6Kernel(std::sqrt(static_cast<double>(n)) * s, h) * s * s * s;
         }
         // The lattice sum's error, about (s / h)^5 (the kernel's third derivative jumps at h).
-        ASSERT_NEAR(sum, 1.0, std::pow(s / h, 5)) << "the integral of W over the ball of radius h = " << h << " m is " << sum;
+        ASSERT_NEAR(sum, 1.0, std::pow(s / h, 5))
+            << "the integral of W over the ball of radius h = " << h << " m is " << sum;
         const double W0 = 315.0 / (64.0 * kFluidPi * h * h * h);
         ASSERT_NEAR(poly6Kernel(0.0, h), W0, kRounding * W0) << "W(0, h) with h = " << h << " m";
         for (const double a : {0.05, 40.0}) {
@@ -89,7 +90,8 @@ GRADED_TEST(Worksheet9Hidden, DensityOfTurnedLattice, 2,
         const double rho = fluidDensity(x, neighbours, f.mass(), f.h);
         // The lattice sum differs from W's integral by about (s / h)^5.
         ASSERT_NEAR(rho / f.rho0, 1.0, std::pow(f.s / f.h, 5))
-            << "the density inside the turned lattice is " << rho << " kg/m^3" << fluidText(f) << neighboursText(x, neighbours);
+            << "the density inside the turned lattice is " << rho << " kg/m^3" << fluidText(f)
+            << neighboursText(x, neighbours);
     }
 }
 
@@ -108,12 +110,12 @@ GRADED_TEST(Worksheet9Hidden, LambdaSameUnderRigidMotionAndRelabelling, 2,
         const double lambda = densityConstraintLambda(x, neighbours, density, f.rho0, f.mass(), f.h, eps);
         const Quat R = checks::randomRotation(rnd);
         const Vec3 t = rnd.inBox(3.0);
-        const double moved =
-            densityConstraintLambda(R * x + t, checks::relabelled(checks::carried(neighbours, R, t)), density, f.rho0,
-                                    f.mass(), f.h, eps);
+        const double moved = densityConstraintLambda(R * x + t, checks::relabelled(checks::carried(neighbours, R, t)),
+                                                     density, f.rho0, f.mass(), f.h, eps);
         const std::string what = "\n  density " + formatNumber(density) + ", eps " + formatNumber(eps) + fluidText(f) +
                                  neighboursText(x, neighbours);
-        ASSERT_TRUE(std::isfinite(lambda) && lambda != 0.0) << "lambda = " << lambda << " away from rest density" << what;
+        ASSERT_TRUE(std::isfinite(lambda) && lambda != 0.0)
+            << "lambda = " << lambda << " away from rest density" << what;
         ASSERT_NEAR(moved, lambda, 1e-10 * std::abs(lambda))
             << "lambda " << lambda << " becomes " << moved << " with the fluid turned, moved and relabelled" << what;
     }
@@ -139,9 +141,9 @@ GRADED_TEST(Worksheet9Hidden, CorrectionTurnsWithTheCloud, 2,
     for (std::size_t i = 0; i < cloud.particles.size(); ++i) {
         const FluidNeighbour& p = cloud.particles[i];
         const Vec3 dp = densityCorrection(p.x, p.lambda, cloud.neighbours[i], f.rho0, f.mass(), f.h, tensile);
-        const Vec3 turned = densityCorrection(R * p.x + t, p.lambda,
-                                              checks::relabelled(checks::carried(cloud.neighbours[i], R, t)), f.rho0,
-                                              f.mass(), f.h, tensile);
+        const Vec3 turned =
+            densityCorrection(R * p.x + t, p.lambda, checks::relabelled(checks::carried(cloud.neighbours[i], R, t)),
+                              f.rho0, f.mass(), f.h, tensile);
         ASSERT_LE((turned - R * dp).norm(), 1e-10 * dp.norm())
             << "dp " << str(dp) << " turned is " << str(R * dp) << ", but the turned cloud gives " << str(turned)
             << fluidText(f) << neighboursText(p.x, cloud.neighbours[i]);
@@ -150,7 +152,8 @@ GRADED_TEST(Worksheet9Hidden, CorrectionTurnsWithTheCloud, 2,
     }
     ASSERT_GT(size, 0.0) << "no particle moved";
     // Each move sums a few dozen terms; their rounding is 1e-14 of the moves, the mistakes' a share.
-    ASSERT_LE(total.norm(), 1e-10 * size) << "the moves sum to " << str(total) << " m; they must sum to 0" << fluidText(f);
+    ASSERT_LE(total.norm(), 1e-10 * size)
+        << "the moves sum to " << str(total) << " m; they must sum to 0" << fluidText(f);
 }
 
 GRADED_TEST(Worksheet9Hidden, XsphSameInMovingAndTurnedFrames, 2,
@@ -172,11 +175,12 @@ GRADED_TEST(Worksheet9Hidden, XsphSameInMovingAndTurnedFrames, 2,
         const double scale = v.norm() + u.norm() + 2.0;  // m/s: the velocities' size
         ASSERT_GT((blended - v).norm(), 0.0) << "neighbours of other velocities must change v" << what;
         ASSERT_LE((inMoving - (blended + u)).norm(), kRounding * scale)
-            << "with u = " << str(u) << " added to every velocity, v' is " << str(inMoving) << "; must be v' + u" << what;
+            << "with u = " << str(u) << " added to every velocity, v' is " << str(inMoving) << "; must be v' + u"
+            << what;
         const Quat R = checks::randomRotation(rnd);
         const Vec3 t = rnd.inBox(3.0);
-        const Vec3 turned = xsphViscosity(R * x + t, R * v, checks::relabelled(checks::carried(neighbours, R, t)),
-                                          f.mass(), f.h, c);
+        const Vec3 turned =
+            xsphViscosity(R * x + t, R * v, checks::relabelled(checks::carried(neighbours, R, t)), f.mass(), f.h, c);
         ASSERT_LE((turned - R * blended).norm(), 1e-10 * scale)
             << "the turned fluid gives v' = " << str(turned) << "; the turned v' is " << str(R * blended) << what;
     }

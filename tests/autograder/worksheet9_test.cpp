@@ -120,10 +120,11 @@ GRADED_TEST(Worksheet9, Poly6ScalesWithH, 2,
 
 // ---- spikyGradient() ------------------------------------------------------------------------------
 
-GRADED_TEST(Worksheet9, SpikyGradientMatchesDefinition, 3,
-            "spikyGradient(): the gradient with respect to x_i of W(|r|, h) = 15 / (pi h^6) (h - |r|)^3, r = x_i - x_j: "
-            "grad W = -45 / (pi h^6) (h - |r|)^2 r / |r| (the chain rule gives the 3 and the unit vector r / |r|). "
-            "It is compared with finite differences of W itself.") {
+GRADED_TEST(
+    Worksheet9, SpikyGradientMatchesDefinition, 3,
+    "spikyGradient(): the gradient with respect to x_i of W(|r|, h) = 15 / (pi h^6) (h - |r|)^3, r = x_i - x_j: "
+    "grad W = -45 / (pi h^6) (h - |r|)^2 r / |r| (the chain rule gives the 3 and the unit vector r / |r|). "
+    "It is compared with finite differences of W itself.") {
     Random rnd(901);
     for (const double h : {0.05, 0.4, 1.3}) {
         for (int i = 0; i < 100; ++i) {
@@ -135,7 +136,8 @@ GRADED_TEST(Worksheet9, SpikyGradientMatchesDefinition, 3,
             Vec3 difference;
             for (int k = 0; k < 3; ++k) {
                 const Vec3 e = step * Vec3::Unit(k);
-                difference[k] = (checks::spikyValue((r + e).norm(), h) - checks::spikyValue((r - e).norm(), h)) / (2.0 * step);
+                difference[k] =
+                    (checks::spikyValue((r + e).norm(), h) - checks::spikyValue((r - e).norm(), h)) / (2.0 * step);
             }
             ASSERT_LE((g - difference).norm(), 1e-6 * spikySlopeScale(h))
                 << "spikyGradient(" << str(r) << ", " << h << ") = " << str(g)
@@ -223,8 +225,9 @@ GRADED_TEST(Worksheet9, DensityInLatticeIsRestDensity, 3,
         // The lattice sum of m W is rho0 times the sum of W s^3, which differs from W's integral, 1, by
         // about (s / h)^5 (Poly6IntegratesToOne); leaving the particle itself out costs 1.6 (s / h)^3.
         const double bound = std::pow(f.s / f.h, 5);
-        ASSERT_NEAR(rho / f.rho0, 1.0, bound) << "the density inside the lattice is " << rho << " kg/m^3; the rest "
-                                              << "density is " << f.rho0 << fluidText(f) << neighboursText(x, neighbours);
+        ASSERT_NEAR(rho / f.rho0, 1.0, bound)
+            << "the density inside the lattice is " << rho << " kg/m^3; the rest "
+            << "density is " << f.rho0 << fluidText(f) << neighboursText(x, neighbours);
     }
 }
 
@@ -238,8 +241,8 @@ GRADED_TEST(Worksheet9, DensityOfIsolatedParticle, 2,
         const Vec3 x = rnd.inBox(2.0);
         const double alone = fluidDensity(x, {}, m, h);
         ASSERT_NEAR(alone, m * poly6AtCentre(h), kRounding * m * poly6AtCentre(h))
-            << "a particle of " << m << " kg with no neighbours, h = " << h << " m, must have the density m W(0, h) = "
-            << m * poly6AtCentre(h) << " kg/m^3";
+            << "a particle of " << m << " kg with no neighbours, h = " << h
+            << " m, must have the density m W(0, h) = " << m * poly6AtCentre(h) << " kg/m^3";
         for (int i = 0; i < 20; ++i) {
             const Vec3 xj = x + h * rnd.uniform(0.05, 0.95) * rnd.direction();
             const double pair = fluidDensity(x, {checks::neighbourAt(xj)}, m, h);
@@ -261,7 +264,8 @@ GRADED_TEST(Worksheet9, DensitySameWhereverAndInAnyOrder, 2,
         const Vec3 x = rnd.inBox(1.0);
         const std::vector<FluidNeighbour> neighbours = checks::randomNeighbours(rnd, x, f, 30);
         const double rho = fluidDensity(x, neighbours, f.mass(), f.h);
-        const std::string what = "\n  rho " + formatNumber(rho) + " kg/m^3" + fluidText(f) + neighboursText(x, neighbours);
+        const std::string what =
+            "\n  rho " + formatNumber(rho) + " kg/m^3" + fluidText(f) + neighboursText(x, neighbours);
         ASSERT_GT(rho, f.mass() * poly6AtCentre(f.h)) << "thirty neighbours add to the particle's own density" << what;
         const Quat R = checks::randomRotation(rnd);
         const Vec3 t = rnd.inBox(3.0);
@@ -285,8 +289,8 @@ GRADED_TEST(Worksheet9, DensityLinearInMass, 1,
         const double heavier = fluidDensity(x, neighbours, 3.0 * f.mass(), f.h);
         ASSERT_GT(rho, 0.0) << "the density must be positive" << fluidText(f) << neighboursText(x, neighbours);
         ASSERT_NEAR(heavier, 3.0 * rho, kRounding * rho)
-            << "with m " << f.mass() << " kg the density is " << rho << "; with 3 m it is " << heavier
-            << fluidText(f) << neighboursText(x, neighbours);
+            << "with m " << f.mass() << " kg the density is " << rho << "; with 3 m it is " << heavier << fluidText(f)
+            << neighboursText(x, neighbours);
     }
 }
 
@@ -343,12 +347,13 @@ GRADED_TEST(Worksheet9, LambdaLinearisedStepReachesRest, 3,
             const double S = gradientSquares(x, neighbours, f);  // 1/m^2
             const double eps = 1e-9 * S;
             const double C = (i % 2 == 0 ? 1.0 : -1.0) * rnd.uniform(0.001, 0.1);
-            const double lambda = densityConstraintLambda(x, neighbours, f.rho0 * (1.0 + C), f.rho0, f.mass(), f.h, eps);
+            const double lambda =
+                densityConstraintLambda(x, neighbours, f.rho0 * (1.0 + C), f.rho0, f.mass(), f.h, eps);
             // eps = 1e-9 S leaves 1e-9 of C; the sums round to far less; the mistakes leave tens of percents.
             ASSERT_NEAR(C + lambda * S, 0.0, 1e-6 * std::abs(C))
                 << "after the linearised step C + lambda sum_k |grad_k C|^2 = " << C + lambda * S << " (C " << C
-                << ", lambda " << lambda << ", sum_k |grad_k C|^2 = " << S << " 1/m^2, eps " << eps << ")" << fluidText(f)
-                << neighboursText(x, neighbours);
+                << ", lambda " << lambda << ", sum_k |grad_k C|^2 = " << S << " 1/m^2, eps " << eps << ")"
+                << fluidText(f) << neighboursText(x, neighbours);
         }
     }
 }
@@ -368,15 +373,16 @@ GRADED_TEST(Worksheet9, LambdaRelaxation, 2,
         double found[2];
         for (int k = 0; k < 2; ++k) {
             const double eps = (k == 0 ? 0.5 : 2.0) * S;
-            const double lambda = densityConstraintLambda(x, neighbours, f.rho0 * (1.0 + C), f.rho0, f.mass(), f.h, eps);
+            const double lambda =
+                densityConstraintLambda(x, neighbours, f.rho0 * (1.0 + C), f.rho0, f.mass(), f.h, eps);
             found[k] = -C / lambda - eps;
-            what += "\n  eps " + formatNumber(eps) + ": lambda " + formatNumber(lambda) + ", -C / lambda - eps = " +
-                    formatNumber(found[k]);
+            what += "\n  eps " + formatNumber(eps) + ": lambda " + formatNumber(lambda) +
+                    ", -C / lambda - eps = " + formatNumber(found[k]);
         }
-        ASSERT_NEAR(found[0], S, 1e-9 * S) << "lambda is not -C / (S + eps)" << what << fluidText(f)
-                                           << neighboursText(x, neighbours);
-        ASSERT_NEAR(found[1], S, 1e-9 * S) << "lambda is not -C / (S + eps)" << what << fluidText(f)
-                                           << neighboursText(x, neighbours);
+        ASSERT_NEAR(found[0], S, 1e-9 * S)
+            << "lambda is not -C / (S + eps)" << what << fluidText(f) << neighboursText(x, neighbours);
+        ASSERT_NEAR(found[1], S, 1e-9 * S)
+            << "lambda is not -C / (S + eps)" << what << fluidText(f) << neighboursText(x, neighbours);
     }
 }
 
@@ -407,8 +413,8 @@ GRADED_TEST(Worksheet9, CorrectionConservesMomentum, 3,
                                      " neighbour pairs, s_corr k " + formatNumber(k) + fluidText(f);
             ASSERT_GT(size, 0.0) << "no particle moved" << what;
             // Each move sums a few dozen terms; their rounding is 1e-14 of the moves, the mistakes' a share.
-            ASSERT_LE(total.norm(), 1e-10 * size)
-                << "the moves sum to " << str(total) << " m (their lengths to " << size << " m); they must sum to 0" << what;
+            ASSERT_LE(total.norm(), 1e-10 * size) << "the moves sum to " << str(total) << " m (their lengths to "
+                                                  << size << " m); they must sum to 0" << what;
         }
     }
 }
@@ -451,11 +457,12 @@ GRADED_TEST(Worksheet9, TensileCorrectionLaw, 2,
         const double distance = i % 3 == 0 ? tensile.dq : rnd.uniform(0.05, 0.95) * f.h;
         const FluidNeighbour j = checks::neighbourAt(x + distance * rnd.direction());
         const Vec3 dp = densityCorrection(x, 0.0, {j}, f.rho0, f.mass(), f.h, tensile);
-        const double sCorr = -tensile.k * std::pow(poly6Kernel((x - j.x).norm(), f.h) / poly6Kernel(tensile.dq, f.h), tensile.n);
+        const double sCorr =
+            -tensile.k * std::pow(poly6Kernel((x - j.x).norm(), f.h) / poly6Kernel(tensile.dq, f.h), tensile.n);
         const Vec3 expected = (f.mass() / f.rho0) * sCorr * spikyGradient(x - j.x, f.h);
         const std::string what = "\n  k " + formatNumber(tensile.k) + ", dq " + formatNumber(tensile.dq) + " m, n " +
-                                 std::to_string(tensile.n) + ", both lambdas 0" + fluidText(f) + neighboursText(x, {j}) +
-                                 "\n  answered dp " + str(dp) + ", expected " + str(expected);
+                                 std::to_string(tensile.n) + ", both lambdas 0" + fluidText(f) +
+                                 neighboursText(x, {j}) + "\n  answered dp " + str(dp) + ", expected " + str(expected);
         ASSERT_GT(dp.dot(x - j.x), 0.0) << "s_corr must push the pair apart" << what;
         // pow() and the kernels' quotient round to 1e-15; 1e-10 allows any order of the operations.
         ASSERT_LE((dp - expected).norm(), 1e-10 * expected.norm())
@@ -503,8 +510,8 @@ GRADED_TEST(Worksheet9, XsphKeepsUniformFlow, 2,
         const double c = i % 3 == 0 ? 1.0 : rnd.uniform(0.01, 0.5);
         const Vec3 mixed = xsphViscosity(x, u, neighbours, f.mass(), f.h, c);
         const std::string what = "\n  v " + str(u) + ", c " + formatNumber(c) + fluidText(f);
-        ASSERT_GT((mixed - u).norm(), 0.0) << "neighbours of other velocities must change v" << what
-                                           << neighboursText(x, neighbours);
+        ASSERT_GT((mixed - u).norm(), 0.0)
+            << "neighbours of other velocities must change v" << what << neighboursText(x, neighbours);
         for (FluidNeighbour& j : neighbours) j.v = u;
         const Vec3 uniform = xsphViscosity(x, u, neighbours, f.mass(), f.h, c);
         ASSERT_LE((uniform - u).norm(), kRounding * u.norm())
@@ -549,8 +556,8 @@ GRADED_TEST(Worksheet9, XsphPairExchangesMomentum, 2,
         const Vec3 dva = xsphViscosity(a.x, a.v, {b}, f.mass(), f.h, c) - a.v;
         const Vec3 dvb = xsphViscosity(b.x, b.v, {a}, f.mass(), f.h, c) - b.v;
         const std::string what = "\n  x_a " + str(a.x) + ", v_a " + str(a.v) + ", x_b " + str(b.x) + ", v_b " +
-                                 str(b.v) + ", rho " + formatNumber(a.density) + ", c " + formatNumber(c) + fluidText(f) +
-                                 "\n  answered dv_a " + str(dva) + ", dv_b " + str(dvb);
+                                 str(b.v) + ", rho " + formatNumber(a.density) + ", c " + formatNumber(c) +
+                                 fluidText(f) + "\n  answered dv_a " + str(dva) + ", dv_b " + str(dvb);
         ASSERT_GT(dva.norm(), 0.0) << "particles of different velocities must blend" << what;
         ASSERT_LE((dva + dvb).norm(), kRounding * (a.v.norm() + b.v.norm())) << "dv_a + dv_b must be 0" << what;
         const Vec3 unchanged = xsphViscosity(a.x, a.v, {b}, f.mass(), f.h, 0.0);
