@@ -69,7 +69,6 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
         const int cx = static_cast<int>(cell % cells_[0]);
         const int cy = static_cast<int>(cell / cells_[0] % cells_[1]);
         const int cz = static_cast<int>(cell / cells_[0] / cells_[1]);
-        const std::size_t first = list_.size();
         for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, cells_[2] - 1); ++z) {
             for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, cells_[1] - 1); ++y) {
                 for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, cells_[0] - 1); ++x) {
@@ -81,7 +80,6 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
                 }
             }
         }
-        std::sort(list_.begin() + static_cast<std::ptrdiff_t>(first), list_.end());
         start_[i + 1] = static_cast<std::uint32_t>(list_.size());
     }
 }

@@ -8,8 +8,8 @@
 // the particles' bounding box; where that box is so large for the particles' number that the cells
 // would outnumber them many times (a few particles flung far away), the cells grow wider than h,
 // which keeps the search exact and its memory bounded. The neighbours are kept as one list per
-// particle (compressed rows: particle i's are list()[start(i)] to list()[start(i + 1) - 1]), each
-// ascending. Buffers are kept from call to call: once they have grown, find() allocates nothing.
+// particle (compressed rows: particle i's are list()[start(i)] to list()[start(i + 1) - 1]), in the
+// order of their cells, and within a cell ascending. Buffers are kept from call to call: once they have grown, find() allocates nothing.
 #pragma once
 
 #include <array>
@@ -27,7 +27,7 @@ public:
     /// points). A point at exactly h is not a neighbour (the kernels vanish there).
     void find(const std::vector<Vec3>& points, double h);
 
-    /// Particle i's neighbours: indices list()[start(i)] .. list()[start(i + 1) - 1], ascending.
+    /// Particle i's neighbours: indices list()[start(i)] .. list()[start(i + 1) - 1].
     std::uint32_t start(std::size_t i) const { return start_[i]; }
     std::uint32_t count(std::size_t i) const { return start_[i + 1] - start_[i]; }
     const std::vector<std::uint32_t>& list() const { return list_; }
