@@ -428,6 +428,39 @@ TEST(Fluids, PbfDamBreakFrontFollowsMartinAndMoyce) { expectFrontFollowsMartinAn
 
 TEST(Fluids, WcsphDamBreakFrontFollowsMartinAndMoyce) { expectFrontFollowsMartinAndMoyce("dam-break-sph"); }
 
+// ---- Stages and scenes ----------------------------------------------------------------------------
+
+TEST(Fluids, StagesAreNamedInStepOrder) {
+    EXPECT_STREQ(stageName(Stage::FluidPredict), "fluid predict");
+    EXPECT_STREQ(stageName(Stage::FluidNeighbours), "neighbours");
+    EXPECT_STREQ(stageName(Stage::FluidProject), "fluid project");
+    EXPECT_STREQ(stageName(Stage::FluidVelocities), "fluid velocities");
+    EXPECT_STREQ(stageName(Stage::FluidSph), "sph");
+    EXPECT_LT(Stage::FluidPredict, Stage::FluidNeighbours);
+    EXPECT_LT(Stage::FluidNeighbours, Stage::FluidProject);
+    EXPECT_LT(Stage::FluidProject, Stage::FluidVelocities);
+}
+
+TEST(Fluids, ScenesLoadWithTheFluidStagesAndParticles) {
+    for (const char* name : {"dam-break", "dam-break-sph", "drop-into-pool", "pour-onto-sphere", "tank-slosh"}) {
+        const Scene& scene = scenes().find(name);
+        EXPECT_EQ(scene.worksheet, 9) << name;
+        EXPECT_TRUE(scene.key.empty()) << name;
+        EXPECT_GT(scene.viewDistance, 0.0) << name;
+        PhysicsEngine e;
+        load(e, scene);
+        EXPECT_GT(e.fluids().size(), 500u) << name;
+        EXPECT_LT(e.fluids().size(), 5000u) << name << ": a scene steps in real time; the study runs larger ones";
+        ASSERT_TRUE(e.fluids().container().has_value()) << name;
+        const bool sph = std::string(name) == "dam-break-sph";
+        EXPECT_EQ(e.requiredStages().contains(Stage::FluidSph), sph) << name;
+        EXPECT_EQ(e.requiredStages().contains(Stage::FluidProject), !sph) << name;
+        // Loading another scene leaves none of its particles behind.
+        load(e, scenes().find("falling-sphere"));
+        EXPECT_TRUE(e.fluids().empty()) << name;
+    }
+}
+
 // ---- Measurements (printed, not checked) ---------------------------------------------------------
 
 TEST(FluidMeasure, DISABLED_Scenes) {
