@@ -91,7 +91,8 @@ GRADED_TEST(Worksheet9, Poly6PositiveAndFalling, 1,
         for (int k = 0; k < kSteps; ++k) {
             const double r = h * k / kSteps;
             const double W = poly6Kernel(r, h);
-            ASSERT_GT(W, 0.0) << "W(" << r << ", " << h << ") = " << W << " inside the ball must be positive";
+            ASSERT_TRUE(std::isfinite(W) && W > 0.0)
+                << "W(" << r << ", " << h << ") = " << W << " inside the ball must be positive";
             if (k > 0) {
                 ASSERT_LT(W, previous) << "W(" << r << ", " << h << ") = " << W << " is not below W at "
                                        << h * (k - 1) / kSteps << " m (" << previous << "): W must fall with r";
@@ -175,7 +176,8 @@ GRADED_TEST(Worksheet9, SpikyGradientZeroAtCentreAndBeyond, 1,
         for (int i = 0; i < 20; ++i) {
             const Vec3 e = rnd.direction();
             const Vec3 inside = spikyGradient(0.5 * h * e, h);
-            ASSERT_GT(inside.norm(), 0.0) << "spikyGradient(" << str(0.5 * h * e) << ", " << h << ") must not be zero";
+            ASSERT_TRUE(checks::finite(inside) && inside.norm() > 0.0)
+                << "spikyGradient(" << str(0.5 * h * e) << ", " << h << ") = " << str(inside) << "; must not be zero";
             const Vec3 r = h * rnd.uniform(1.001, 3.0) * e;
             const Vec3 beyond = spikyGradient(r, h);
             ASSERT_LE(beyond.norm(), kRounding * spikySlopeScale(h))
@@ -510,8 +512,9 @@ GRADED_TEST(Worksheet9, XsphKeepsUniformFlow, 2,
         const double c = i % 3 == 0 ? 1.0 : rnd.uniform(0.01, 0.5);
         const Vec3 mixed = xsphViscosity(x, u, neighbours, f.mass(), f.h, c);
         const std::string what = "\n  v " + str(u) + ", c " + formatNumber(c) + fluidText(f);
-        ASSERT_GT((mixed - u).norm(), 0.0)
-            << "neighbours of other velocities must change v" << what << neighboursText(x, neighbours);
+        ASSERT_TRUE(checks::finite(mixed) && (mixed - u).norm() > 0.0)
+            << "neighbours of other velocities must change v, to a finite v' (" << str(mixed) << ")" << what
+            << neighboursText(x, neighbours);
         for (FluidNeighbour& j : neighbours) j.v = u;
         const Vec3 uniform = xsphViscosity(x, u, neighbours, f.mass(), f.h, c);
         ASSERT_LE((uniform - u).norm(), kRounding * u.norm())

@@ -452,8 +452,8 @@ Vec3 projectParticleBox(const Vec3& p, double r, const Vec3& centre, const Quat&
 }
 
 // ---- Worksheet 9: fluids --------------------------------------------------------------------------
-// The answers are read as they come; the graded tests check that each is finite before they use it
-// (tests/autograder/fluid.h), so that nonsense fails the test it answered.
+// The answers are read as they come, NaN or huge included: the graded tests compare them with
+// physics in comparisons that a number not finite fails, so that nonsense fails the test it answered.
 
 double poly6Kernel(double r, double h) {
     Writer w;
