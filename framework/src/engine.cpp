@@ -68,6 +68,9 @@ void PhysicsEngine::restore(const State& s) {
     fluids_.x = s.fluidPositions;
     fluids_.v = s.fluidVelocities;
     fluids_.p = s.fluidPositions;
+    fluids_.density.resize(fluids_.x.size(), fluids_.parameters().restDensity);
+    fluids_.lambda.resize(fluids_.x.size(), 0.0);
+    fluids_.pressure.resize(fluids_.x.size(), 0.0);
 }
 
 void PhysicsEngine::clear() {

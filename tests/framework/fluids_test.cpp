@@ -7,11 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
-#include <ctime>
 #include <limits>
 #include <new>
 #include <random>
@@ -458,46 +455,6 @@ TEST(Fluids, ScenesLoadWithTheFluidStagesAndParticles) {
         // Loading another scene leaves none of its particles behind.
         load(e, scenes().find("falling-sphere"));
         EXPECT_TRUE(e.fluids().empty()) << name;
-    }
-}
-
-// ---- Measurements (printed, not checked) ---------------------------------------------------------
-
-TEST(FluidMeasure, DISABLED_Scenes) {
-    for (const char* name : {"dam-break", "dam-break-sph", "drop-into-pool", "pour-onto-sphere", "tank-slosh"}) {
-        PhysicsEngine e;
-        load(e, scenes().find(name));
-        const int steps = 200;
-        const std::clock_t begin = std::clock();  // CPU time: the machine may be shared
-        for (int k = 0; k < steps; ++k) e.step();
-        const double ms = 1000.0 * double(std::clock() - begin) / CLOCKS_PER_SEC / steps;
-        e.fluids().measureDensities();
-        double fastest = 0.0, top = 0.0;
-        for (std::size_t i = 0; i < e.fluids().size(); ++i) {
-            fastest = std::max(fastest, e.fluids().v[i].norm());
-            top = std::max(top, e.fluids().x[i].y());
-        }
-        std::printf("  neighbours per particle %.1f fastest %.2f m/s top %.3f m cells %d %d %d\n",
-                    double(e.fluids().grid().total()) / e.fluids().size(), fastest, top, e.fluids().grid().cells()[0],
-                    e.fluids().grid().cells()[1], e.fluids().grid().cells()[2]);
-        std::printf("%-18s %5zu particles %7.2f ms/step  density error %.4f largest %.4f\n", name, e.fluids().size(),
-                    ms, e.fluids().densityError(), e.fluids().largestDensityError());
-    }
-}
-
-TEST(FluidMeasure, DISABLED_DamBreakFront) {
-    for (const char* name : {"dam-break", "dam-break-sph"}) {
-        PhysicsEngine e;
-        load(e, scenes().find(name));
-        if (const char* h = std::getenv("FLUID_STEP")) e.setTimeStep(std::atof(h));
-        const double a = 0.25, scale = std::sqrt(2.0 * 9.81 / a);
-        const auto begin = std::chrono::steady_clock::now();
-        while (e.time() < 0.4) {
-            e.step();
-            if (e.stepCount() % 5 == 0)
-                std::printf("%s T %.3f Z %.3f\n", name, e.time() * scale, frontOf(e.fluids()) / a);
-        }
-        std::printf("%.2f ms/step\n", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count() / e.stepCount());
     }
 }
 
