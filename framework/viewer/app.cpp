@@ -49,6 +49,14 @@ void App::init(int argc, char** argv) {
     session_.setPaused(options_.paused);
     session_.setGhost(options_.ghost);
     if (options_.dt > 0.0) session_.setTick(options_.dt);
+    if (options_.fluidParticles > 0) {
+        PhysicsEngine& e = session_.engine();
+        const std::size_t placed = fillContainer(e.fluids(), e.bodies(), static_cast<std::size_t>(options_.fluidParticles));
+        if (placed < static_cast<std::size_t>(options_.fluidParticles)) {
+            message("--fluid-particles: the container holds " + std::to_string(placed) + " of " +
+                    std::to_string(options_.fluidParticles));
+        }
+    }
     for (long long i = 0; i < options_.presteps; ++i) session_.stepOnce();
     frameScene();
     // Dear ImGui sizes auto-sized windows in their first frame and shows them from the second:
@@ -95,6 +103,10 @@ void App::shutdown() {
         const double ms = frameMsSum_ / frame_;
         std::printf("frames: %ld, bodies: %zu, mean frame time: %.2f ms (%.1f fps), of which physics %.2f ms\n", frame_,
                     session_.engine().bodies().size(), ms, 1000.0 / ms, physicsMsSum_ / frame_);
+        if (!session_.engine().fluids().empty()) {
+            std::printf("fluid particles: %zu, drawing the scene: %.2f ms per frame\n", session_.engine().fluids().size(),
+                        drawMsSum_ / frame_);
+        }
     }
 }
 
@@ -114,6 +126,8 @@ void App::loadScene(const std::string& key) {
         session_.load(scenes().find(key));
         frameScene();
         hovered_.reset();
+        hoveredParticle_.reset();
+        hoveredFluid_.reset();
         title();
         message("scene " + session_.scene().key + ": " + session_.scene().name);
     } catch (const std::invalid_argument&) {
@@ -217,6 +231,32 @@ std::string App::state() const {
         j["selected_particle_velocity"] = {soft.v[*i].x(), soft.v[*i].y(), soft.v[*i].z()};
     }
     j["links_shown"] = softWire_;
+    // The fluid as the panel shows it, and the particles hovered and selected (their index).
+    const Fluids& fluid = e.fluids();
+    if (!fluid.empty()) {
+        nlohmann::json f;
+        f["particles"] = fluid.size();
+        f["method"] = fluidMethodName(e);
+        f["iterations"] = fluid.parameters().iterations;
+        f["density_error"] = fluid.densityError();
+        f["largest_density_error"] = fluid.largestDensityError();
+        f["colouring"] = fluidColouringName(fluidColouring_);
+        f["range"] = fluidRange();
+        const Bounds box = fluidBounds(fluid);
+        f["min"] = {box.min().x(), box.min().y(), box.min().z()};
+        f["max"] = {box.max().x(), box.max().y(), box.max().z()};
+        if (const auto& c = fluid.container()) {
+            f["container"] = {c->lower.x(), c->lower.y(), c->lower.z(), c->upper.x(), c->upper.y(), c->upper.z()};
+            std::size_t outside = 0;
+            for (const Vec3& q : fluid.x) outside += c->contains(q) ? 0 : 1;
+            f["outside"] = outside;
+        }
+        f["hovered"] = hoveredFluid_ ? nlohmann::json(*hoveredFluid_) : nlohmann::json();
+        const auto i = session_.selectedFluidParticle();
+        f["selected"] = i ? nlohmann::json(*i) : nlohmann::json();
+        if (i) f["selected_position"] = {fluid.x[*i].x(), fluid.x[*i].y(), fluid.x[*i].z()};
+        j["fluid"] = f;
+    }
     j["help"] = help_;
     j["panel"] = panel_;
     j["recording"] = !recording_.empty();

@@ -26,6 +26,7 @@ struct Options {
     bool panel = true;
     bool ghost = false;
     bool benchmark = false;  ///< print frame timings at the end
+    long long fluidParticles = 0;  ///< > 0: the scene's fluid replaced by this many at rest (fillContainer())
 };
 
 /// Runs the viewer; returns the process exit status.

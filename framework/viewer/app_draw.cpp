@@ -40,7 +40,15 @@ void App::display() {
     if (mouseMode_ == MouseMode::None) view.hovered = hovered_, view.hoveredParticle = hoveredParticle_;
     view.contacts = contacts_;
     view.softWire = softWire_;
+    if (mouseMode_ == MouseMode::None) view.hoveredFluidParticle = hoveredFluid_;
+    view.fluidColouring = fluidColouring_;
+    view.fluidRange = fluidRange();
     renderer_.draw(session_, camera_, sceneWidth(), height_, view);
+    if (options_.benchmark) {
+        // The scene's drawing alone: a software renderer draws when asked to finish.
+        glFinish();
+        drawMsSum_ += std::chrono::duration<double, std::milli>(SteadyClock::now() - physicsDone).count();
+    }
 
     ImGui_ImplOpenGL2_NewFrame();
     ImGui_ImplGLUT_NewFrame();  // calls ImGui::NewFrame() itself (imgui 1.86)

@@ -61,6 +61,9 @@ private:
     void drawHelp();
     void drawTooltip();
     void drawSoftPanel();
+    void drawFluidPanel();
+    /// The colour map's range for the fluid's colouring now shown.
+    double fluidRange() const { return fluidColouring_ == FluidColouring::Speed ? speedRange_ : densityRange_; }
     void runScript();
     bool scriptPoint(std::istringstream& in, int& x, int& y);
     bool savePng(const std::string& path);
@@ -79,6 +82,10 @@ private:
     MouseMode mouseMode_ = MouseMode::None;
     std::optional<std::size_t> hovered_;
     std::optional<std::uint32_t> hoveredParticle_;  ///< of the soft bodies
+    std::optional<std::uint32_t> hoveredFluid_;     ///< of the fluid
+    FluidColouring fluidColouring_ = FluidColouring::DensityError;
+    double densityRange_ = kDefaultDensityRange;  ///< +- this share of the rest density at the map's ends
+    double speedRange_ = kDefaultSpeedRange;      ///< m/s at the sequential map's end
     bool held_[256] = {};
     bool help_ = false;
     bool panel_ = true;
@@ -90,6 +97,7 @@ private:
     bool deterministic_ = false;
     long frame_ = 0;
     double frameMsSum_ = 0.0, physicsMsSum_ = 0.0;
+    double drawMsSum_ = 0.0;  ///< the scene's drawing, finished (glFinish), with --benchmark
     std::string recording_;  // folder, empty when not recording
     int recorded_ = 0;
     int screenshots_ = 0;

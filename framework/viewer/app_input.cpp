@@ -30,6 +30,7 @@ const std::vector<std::pair<std::string, std::string>>& bindings() {
         {"k", "contacts of the last step on / off: points and normals"},
         {"left drag on a body", "pull it with a spring to the cursor (and select it)"},
         {"left drag on cloth, a rope", "hold the particle and move it with the cursor (and select it)"},
+        {"left drag in a fluid", "lead the particle with the cursor: the fluid makes way (and select it)"},
         {"left click", "select a body or particle (click on nothing: clear)"},
         {"left drag elsewhere", "orbit the camera"},
         {"right or middle drag", "pan"},
@@ -231,6 +232,7 @@ void App::passive(int x, int y) {
     const bool inScene = x < sceneWidth();
     hovered_ = inScene ? hit.body : std::nullopt;
     hoveredParticle_ = inScene ? hit.particle : std::nullopt;
+    hoveredFluid_ = inScene ? hit.fluidParticle : std::nullopt;
 }
 
 void App::wheel(int wheelNumber, int direction, int x, int y) {
@@ -321,7 +323,8 @@ void App::runScript() {
         } else if (verb == "set") {
             // What the panel's widgets set: "set restitution 0.3" (of the selected body),
             // "set contact-iterations 4", "set constraint-iterations 20", "set speed 6",
-            // "set stage impulses off", "set links on" (the soft bodies' wire view).
+            // "set stage impulses off", "set links on" (the soft bodies' wire view),
+            // "set fluid-iterations 8", "set fluid-colour speed" (or density), "set fluid-range 0.05".
             std::string what, value;
             in >> what >> value;
             ok = !value.empty();
@@ -331,6 +334,16 @@ void App::runScript() {
                 session_.setContactIterations(std::atoi(value.c_str()));
             } else if (ok && what == "constraint-iterations") {
                 session_.setConstraintIterations(std::atoi(value.c_str()));
+            } else if (ok && what == "fluid-iterations") {
+                session_.setFluidIterations(std::atoi(value.c_str()));
+            } else if (ok && what == "fluid-colour" && (value == "speed" || value == "density")) {
+                fluidColouring_ = value == "speed" ? FluidColouring::Speed : FluidColouring::DensityError;
+            } else if (ok && what == "fluid-range") {
+                // The panel's range of the colour map now shown (> 0).
+                char* end = nullptr;
+                const double range = std::strtod(value.c_str(), &end);
+                ok = *end == '\0' && range > 0.0 && std::isfinite(range);
+                if (ok) (fluidColouring_ == FluidColouring::Speed ? speedRange_ : densityRange_) = range;
             } else if (ok && what == "links" && (value == "on" || value == "off")) {
                 softWire_ = value == "on";
             } else if (ok && what == "speed") {

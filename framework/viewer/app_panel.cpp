@@ -39,7 +39,8 @@ void App::drawOverlay() {
                 session_.paused() ? "   PAUSED" : "");
     // Gravity acts only through its stage (on particles, through their prediction): a scene
     // without it (spinning boxes in space) says so.
-    const bool applied = e.stageActive(Stage::ConstantAcceleration) || e.stageActive(Stage::SoftPredict);
+    const bool applied = e.stageActive(Stage::ConstantAcceleration) || e.stageActive(Stage::SoftPredict) ||
+                         e.stageActive(Stage::FluidPredict) || e.stageActive(Stage::FluidSph);
     const char* gravity = !applied ? "not applied" : session_.gravityOn() ? "on" : "off";
     ImGui::Text("%s   stages: %s   gravity %s   %.0f fps", integratorName(e.integratorKind()),
                 e.requiredStages().names().c_str(), gravity, ImGui::GetIO().Framerate);
@@ -195,6 +196,7 @@ void App::drawPanel() {
     }
 
     drawSoftPanel();
+    drawFluidPanel();
 
     if (ImGui::CollapsingHeader("Selected body", ImGuiTreeNodeFlags_DefaultOpen)) {
         if (const Body* b = session_.selectedBody()) {
@@ -320,6 +322,82 @@ void App::drawSoftPanel() {
     }
 }
 
+void App::drawFluidPanel() {
+    const PhysicsEngine& e = session_.engine();
+    const Fluids& fluid = e.fluids();
+    if (fluid.empty() || !ImGui::CollapsingHeader("Fluid", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    const FluidParameters& f = fluid.parameters();
+    const bool sph = std::string(fluidMethodName(e)) == "WCSPH";
+    ImGui::Text("%zu particles (%s)", fluid.size(), sph ? "WCSPH" : "PBF");
+    if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip(sph ? "weakly compressible SPH: Tait's pressure, stiff by its speed of sound (the comparison)"
+                              : "position-based fluids: the density constraints projected, XSPH viscosity");
+    }
+    ImGui::Text("spacing %.3g cm, smoothing length %.3g cm", 100.0 * f.spacing, 100.0 * f.smoothingLength);
+    ImGui::Text("density error: mean %.3g %%, largest %.3g %%", 100.0 * fluid.densityError(),
+                100.0 * fluid.largestDensityError());
+    if (ImGui::IsItemHovered()) {
+        ImGui::SetTooltip(
+            "rho / rho0 - 1 of the last density computation: the mean of its compression (above 0) and\n"
+            "the largest (a particle at a free surface or a wall reads below rho0 without being stretched)");
+    }
+    if (sph) {
+        ImGui::Text("%d substeps per step, speed of sound %.3g m/s", fluid.sphSubsteps(e.timeStep()), f.soundSpeed);
+    } else {
+        int iterations = f.iterations;
+        if (ImGui::SliderInt("iterations##fluid", &iterations, 1, Session::kMaxFluidIterations, "%d",
+                             ImGuiSliderFlags_Logarithmic)) {
+            session_.setFluidIterations(iterations);
+        }
+        if (ImGui::IsItemHovered()) {
+            ImGui::SetTooltip("sweeps of the density constraints per step: more hold the density closer to rho0");
+        }
+    }
+    int colouring = fluidColouring_ == FluidColouring::Speed ? 1 : 0;
+    ImGui::RadioButton("density error", &colouring, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("speed", &colouring, 1);
+    fluidColouring_ = colouring == 1 ? FluidColouring::Speed : FluidColouring::DensityError;
+    // The colour map as a bar, its range in the slider under it.
+    const bool speed = fluidColouring_ == FluidColouring::Speed;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const float width = ImGui::CalcItemWidth(), height = ImGui::GetTextLineHeight();
+    constexpr int kSteps = 32;
+    for (int k = 0; k < kSteps; ++k) {
+        std::uint8_t a[4], b[4];
+        const double t0 = double(k) / kSteps, t1 = double(k + 1) / kSteps;
+        speed ? sequentialColour(t0, a) : divergingColour(2.0 * t0 - 1.0, a);
+        speed ? sequentialColour(t1, b) : divergingColour(2.0 * t1 - 1.0, b);
+        const ImU32 left = IM_COL32(a[0], a[1], a[2], 255), right = IM_COL32(b[0], b[1], b[2], 255);
+        draw->AddRectFilledMultiColor(ImVec2(at.x + width * float(t0), at.y), ImVec2(at.x + width * float(t1), at.y + height),
+                                      left, right, right, left);
+    }
+    ImGui::Dummy(ImVec2(width, height));
+    ImGui::SameLine();
+    ImGui::TextUnformatted(speed ? "speed" : "rho / rho0 - 1");
+    const double range = fluidRange();
+    if (speed) {
+        ImGui::Text("0 m/s .. %.3g m/s", range);
+    } else {
+        ImGui::Text("-%.3g %% .. 0 .. +%.3g %%", 100.0 * range, 100.0 * range);
+    }
+    float shown = static_cast<float>(speed ? range : 100.0 * range);
+    if (ImGui::SliderFloat(speed ? "range (m/s)" : "range (%)", &shown, speed ? 0.1f : 0.1f, speed ? 10.0f : 50.0f, "%.3g",
+                           ImGuiSliderFlags_Logarithmic) &&
+        shown > 0.0f) {
+        (speed ? speedRange_ : densityRange_) = speed ? shown : shown / 100.0;
+    }
+    if (const auto i = session_.selectedFluidParticle(); i && *i < fluid.size()) {
+        ImGui::Text("particle %u", *i);
+        ImGui::Text("position %s m", vec(fluid.x[*i]).c_str());
+        ImGui::Text("velocity %s m/s", vec(fluid.v[*i]).c_str());
+        ImGui::Text("rho / rho0 - 1: %.3g %%", 100.0 * densityErrorOf(fluid, *i));
+    } else {
+        ImGui::TextDisabled("drag a particle with the mouse");
+    }
+}
+
 void App::drawHelp() {
     ImGui::SetNextWindowPos(ImVec2(width_ * 0.5f, height_ * 0.5f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
     ImGui::Begin("Keys and mouse", &help_, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse);
@@ -346,6 +424,17 @@ void App::drawTooltip() {
         ImGui::Text("mass %.4g kg", soft.mass[i]);
         ImGui::Text("x %s m", vec(soft.x[i]).c_str());
         ImGui::Text("v %s m/s", vec(soft.v[i]).c_str());
+        ImGui::EndTooltip();
+        return;
+    }
+    const Fluids& fluid = session_.engine().fluids();
+    if (hoveredFluid_ && *hoveredFluid_ < fluid.size()) {
+        const std::uint32_t i = *hoveredFluid_;
+        ImGui::BeginTooltip();
+        ImGui::Text("fluid particle %u", i);
+        ImGui::Text("x %s m", vec(fluid.x[i]).c_str());
+        ImGui::Text("v %s m/s", vec(fluid.v[i]).c_str());
+        ImGui::Text("rho / rho0 - 1: %.3g %%", 100.0 * densityErrorOf(fluid, i));
         ImGui::EndTooltip();
         return;
     }

@@ -127,6 +127,15 @@ void Renderer::Batch::draw(unsigned mode) const {
     glDisableClientState(GL_VERTEX_ARRAY);
 }
 
+void Renderer::Batch::drawTranslucent(unsigned mode) const {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    draw(mode);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+}
+
 Renderer::Renderer()
     : sphere_{sphereMesh(7, 9), sphereMesh(3, 4), sphereMesh(2, 3)}, cube_(cubeMesh()), disc_(discMesh(10)) {}
 
@@ -276,17 +285,15 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
         for (const Vec3& v : disc_.vertices) shadows_.add(centre + grow * size.cwiseProduct(v), Vec3::UnitY(), rgba);
         for (std::uint32_t i : disc_.indices) shadows_.indices.push_back(base + i);
     }
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glDepthMask(GL_FALSE);
-    shadows_.draw(GL_TRIANGLES);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
+    shadows_.drawTranslucent(GL_TRIANGLES);
     glEnable(GL_LIGHTING);
 
-    // Bodies: one batch; the hovered one a little lighter.
+    // Bodies: one batch; the hovered one a little lighter. A fluid's tank is left out: its
+    // container's glass box stands for it (drawFluidContainer()).
     solid_.clear();
+    const auto& tank = session.engine().fluids().container();
     for (std::size_t i = 0; i < bodies.size(); ++i) {
+        if (tank && isTankWall(bodies[i], *tank)) continue;
         std::uint8_t rgba[4];
         colourOf(bodies[i], i, rgba);
         if (hovered && *hovered == i) {
@@ -296,6 +303,7 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     }
     solid_.draw(GL_TRIANGLES);
     drawSoftBodies(session, options);
+    drawFluid(session, camera, height, options);
 
     // Springs (green), rods and chain links (dark grey), the container (a wire sphere).
     glDisable(GL_LIGHTING);
@@ -391,12 +399,9 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     lines_.draw(GL_LINES);
     glLineWidth(1.0f);
     glEnable(GL_LIGHTING);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glDepthMask(GL_FALSE);
-    translucent_.draw(GL_TRIANGLES);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
+    translucent_.drawTranslucent(GL_TRIANGLES);
+
+    drawFluidContainer(session, camera);
 
     // The reference ghost, translucent, over everything opaque.
     if (session.ghostOn()) {
@@ -410,12 +415,7 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
             g.orientation = Quat(p[3], p[4], p[5], p[6]);
             append(translucent_, g, ghost, camera, height);
         }
-        glEnable(GL_BLEND);
-        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-        glDepthMask(GL_FALSE);
-        translucent_.draw(GL_TRIANGLES);
-        glDepthMask(GL_TRUE);
-        glDisable(GL_BLEND);
+        translucent_.drawTranslucent(GL_TRIANGLES);
         drawSoftGhost(session);
     }
 

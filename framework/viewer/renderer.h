@@ -6,6 +6,8 @@
 // contacts. Bodies are batched into one vertex array per frame: a thousand bodies cost a few draw
 // calls, not thousands. Cloth, ropes and soft bodies (renderer_soft.cpp) are a vertex array per
 // mesh: a cloth a lit surface, both sides, a soft body its outer surface, a rope a chain of beads.
+// A fluid (renderer_fluid.cpp) is one array of points, each a shaded sprite of the particle's size,
+// in its container's glass box (the tank's walls are not drawn: they would hide it).
 #pragma once
 
 #include <cstdint>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "fluid_shapes.h"
 #include "session.h"
 
 namespace gpl::viewer {
@@ -26,6 +29,9 @@ public:
         std::optional<std::uint32_t> hoveredParticle;  ///< the particle under the cursor, marked
         bool contacts = false;                         ///< the contacts of the last step
         bool softWire = false;                         ///< the soft bodies' links over their surfaces
+        std::optional<std::uint32_t> hoveredFluidParticle;  ///< the fluid particle under the cursor, marked
+        FluidColouring fluidColouring = FluidColouring::DensityError;  ///< what a fluid particle's colour shows
+        double fluidRange = kDefaultDensityRange;      ///< the colour map's range (fluidColours())
     };
     /// Draws into the viewport (0, 0, width, height) of the window: the part the side panel leaves.
     void draw(const Session& session, const Camera& camera, int width, int height, const Options& options);
@@ -43,6 +49,8 @@ public:
         void clear() { positions.clear(), normals.clear(), colours.clear(), indices.clear(); }
         std::uint32_t add(const Vec3& p, const Vec3& n, const std::uint8_t rgba[4]);
         void draw(unsigned mode) const;  ///< indexed when it has indices
+        /// Drawn blended by alpha over what is already drawn, without writing depth (glass, ghosts).
+        void drawTranslucent(unsigned mode) const;
     };
 
 private:
@@ -60,12 +68,28 @@ private:
     void drawSoftBodies(const Session& session, const Options& options);
     /// The reference ghost's soft bodies, translucent.
     void drawSoftGhost(const Session& session);
+    /// The fluid's particles in one call, coloured by options; the hovered and selected particle
+    /// marked, the drag's line to the cursor.
+    void drawFluid(const Session& session, const Camera& camera, int height, const Options& options);
+    /// The fluid's container: its edges, and its far faces as glass.
+    void drawFluidContainer(const Session& session, const Camera& camera);
+    /// The sprite program, compiled at the first use; false where GLSL is not available.
+    bool fluidProgramReady();
+    /// fluidOrder_ := the particles' indices from the nearest to the farthest from the eye.
+    void depthOrder(const Fluids& fluid, const Camera& camera);
 
     Mesh sphere_[3];  ///< unit spheres with marked octants, fine to coarse
     Mesh cube_;       ///< the cube [-1, 1]^3
     Mesh disc_;       ///< unit disc in the x-z plane
     Batch solid_, translucent_, shadows_, lines_, points_;
     std::vector<Vec3> normals_;  ///< a soft mesh's, per particle
+    std::vector<float> fluidPositions_;         ///< the fluid's, three per particle
+    std::vector<std::uint8_t> fluidColours_;    ///< the fluid's, four per particle
+    std::vector<std::uint32_t> fluidOrder_;     ///< the particles front to back (depthOrder())
+    std::vector<float> fluidDepths_;            ///< depthOrder()'s work space
+    std::vector<std::size_t> fluidBuckets_;     ///< depthOrder()'s work space
+    unsigned fluidProgram_ = 0;                 ///< GL program name, 0 when none
+    bool fluidProgramTried_ = false;
 };
 
 }  // namespace gpl::viewer

@@ -136,12 +136,7 @@ void Renderer::drawSoftGhost(const Session& session) {
     for (std::size_t mi = 0; mi < soft.meshes.size(); ++mi) appendSoftMesh(translucent_, soft, mi, x, ghost);
     glDisable(GL_CULL_FACE);
     glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_TRUE);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glDepthMask(GL_FALSE);
-    translucent_.draw(GL_TRIANGLES);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
+    translucent_.drawTranslucent(GL_TRIANGLES);
     glLightModeli(GL_LIGHT_MODEL_TWO_SIDE, GL_FALSE);
     glEnable(GL_CULL_FACE);
 }

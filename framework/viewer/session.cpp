@@ -26,6 +26,7 @@ void Session::load(const Scene& scene) {
     clock_.reset();
     selected_.reset();
     selectedParticle_.reset();
+    selectedFluid_.reset();
     drag_.reset();
     error_.clear();
     edited_ = false;
@@ -48,7 +49,7 @@ void Session::tickOnce() {
     history_.push(engine_.state());
     try {
         for (int i = 0; i < substeps_; ++i) {
-            if (drag_ && !drag_->particle) {
+            if (drag_ && !drag_->particle && !drag_->fluid) {
                 // A critically damped spring to the cursor (omega = 12 rad/s), whatever the mass.
                 Body& b = engine_.bodies()[drag_->index];
                 const double w = 12.0, h = engine_.timeStep();
@@ -66,6 +67,24 @@ void Session::tickOnce() {
 }
 
 void Session::stepEngine() {
+    if (drag_ && drag_->fluid) {
+        // The particle leads with the velocity that takes it toward the cursor; after the step it is
+        // put exactly there (its neighbours moved around where it went).
+        Fluids& fluid = engine_.fluids();
+        const std::size_t i = drag_->index;
+        const double h = engine_.timeStep();
+        Vec3 to = fluid.x[i] + (1.0 - std::exp(-kParticleDragRate * h)) * (drag_->target - fluid.x[i]);
+        if (const auto& box = fluid.container()) {
+            const Vec3 margin = Vec3::Constant(fluid.radius());
+            to = to.cwiseMax(box->lower + margin).cwiseMin(box->upper - margin);
+        }
+        drag_->particleVelocity = (to - fluid.x[i]) / h;
+        fluid.v[i] = drag_->particleVelocity;
+        engine_.step();
+        fluid.x[i] = fluid.p[i] = to;
+        fluid.v[i] = drag_->particleVelocity;
+        return;
+    }
     if (!drag_ || !drag_->particle) {
         engine_.step();
         return;
@@ -94,6 +113,7 @@ bool Session::stepBack() {
     engine_.restore(s);
     if (selected_ && *selected_ >= engine_.bodies().size()) selected_.reset();
     if (selectedParticle_ && *selectedParticle_ >= engine_.softBodies().x.size()) selectedParticle_.reset();
+    if (selectedFluid_ && *selectedFluid_ >= engine_.fluids().size()) selectedFluid_.reset();
     drag_.reset();
     error_.clear();
     // The ghost cannot step back; it follows again after a reset.
@@ -144,6 +164,13 @@ void Session::setConstraintIterations(int n) {
     settingsChanged();
 }
 
+void Session::setFluidIterations(int n) {
+    FluidParameters parameters = engine_.fluids().parameters();
+    parameters.iterations = std::clamp(n, 1, kMaxFluidIterations);
+    engine_.fluids().setParameters(parameters);
+    settingsChanged();
+}
+
 void Session::setRestitution(std::size_t index, double e) {
     engine_.bodies().at(index).restitution = std::clamp(e, 0.0, 1.0);
     settingsChanged();
@@ -167,10 +194,24 @@ void Session::settingsChanged() {
 }
 
 Session::Picked Session::pickAt(const Ray& ray) const {
-    const auto body = pick(engine_.bodies(), ray);
+    const auto& tank = engine_.fluids().container();
+    std::optional<Hit> body;
+    if (!tank) {
+        body = pick(engine_.bodies(), ray);
+    } else {
+        for (std::size_t i = 0; i < engine_.bodies().size(); ++i) {
+            if (isTankWall(engine_.bodies()[i], *tank)) continue;
+            const auto t = intersect(engine_.bodies()[i], ray);
+            if (t && (!body || *t < body->distance)) body = Hit{i, *t};
+        }
+    }
     const auto particle = pickParticle(engine_.softBodies(), ray);
-    if (particle && (!body || particle->distance < body->distance)) return {std::nullopt, particle->particle};
-    if (body) return {body->index, std::nullopt};
+    const auto fluid = pickFluidParticle(engine_.fluids(), ray);
+    const double bodyAt = body ? body->distance : HUGE_VAL;
+    const double particleAt = particle ? particle->distance : HUGE_VAL;
+    if (fluid && fluid->distance < bodyAt && fluid->distance < particleAt) return {std::nullopt, std::nullopt, fluid->particle};
+    if (particle && particleAt < bodyAt) return {std::nullopt, particle->particle, std::nullopt};
+    if (body) return {body->index, std::nullopt, std::nullopt};
     return {};
 }
 
@@ -178,11 +219,20 @@ std::optional<std::size_t> Session::pickAndSelect(const Ray& ray) {
     const Picked hit = pickAt(ray);
     selected_ = hit.body;
     selectedParticle_ = hit.particle;
+    selectedFluid_ = hit.fluidParticle;
     return selected_;
 }
 
 bool Session::beginDrag(const Ray& ray, const Vec3& viewDirection) {
     const Picked hit = pickAt(ray);
+    if (hit.fluidParticle) {
+        selectFluidParticle(hit.fluidParticle);
+        const Vec3 at = engine_.fluids().x[*hit.fluidParticle];
+        drag_ = Drag{*hit.fluidParticle, at, at, viewDirection.normalized()};
+        drag_->fluid = true;
+        edited_ = true;
+        return true;
+    }
     if (hit.particle) {
         selectParticle(hit.particle);
         const Vec3 at = engine_.softBodies().x[*hit.particle];

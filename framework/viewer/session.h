@@ -1,7 +1,7 @@
 // What the viewer shows and changes, without any GL: the engine on a scene, time control
 // (pause, step, step back, speed, substeps), interaction (select, drag, shoot, add, remove,
-// gravity; bodies and the particles of cloth, ropes and soft bodies), energy plots and the
-// reference ghost. Keys and mouse map onto these calls.
+// gravity; bodies, the particles of cloth, ropes and soft bodies, and a fluid's particles), energy
+// plots and the reference ghost. Keys and mouse map onto these calls.
 #pragma once
 
 #include <cstddef>
@@ -14,6 +14,7 @@
 
 #include "camera.h"
 #include "clock.h"
+#include "fluid_shapes.h"
 #include "gpl/scenes.h"
 #include "history.h"
 #include "picking.h"
@@ -85,6 +86,10 @@ public:
     /// constraintIterations(), clamped to 1 .. kMaxConstraintIterations.
     void setConstraintIterations(int n);
     static constexpr int kMaxConstraintIterations = 200;
+    /// The fluid's density-constraint sweeps per PBF step (FluidParameters::iterations), clamped
+    /// to 1 .. kMaxFluidIterations.
+    void setFluidIterations(int n);
+    static constexpr int kMaxFluidIterations = 100;
     /// Sets a body's coefficient of restitution, clamped to 0 .. 1; it acts from the next step on.
     /// Like every edit, a step back to a state before it undoes it.
     void setRestitution(std::size_t index, double e);
@@ -92,16 +97,25 @@ public:
     void setGravity(const Vec3& g);  ///< m/s^2; throws std::invalid_argument when not finite
     bool gravityOn() const { return engine_.gravity() != Vec3::Zero(); }
     /// Selects a body (and no particle).
-    void select(std::optional<std::size_t> index) { selected_ = index, selectedParticle_.reset(); }
+    void select(std::optional<std::size_t> index) { selected_ = index, selectedParticle_.reset(), selectedFluid_.reset(); }
     std::optional<std::size_t> selected() const { return selected_; }
     const Body* selectedBody() const { return selected_ ? &engine_.bodies()[*selected_] : nullptr; }
     /// Selects a particle of the soft bodies (and no body).
-    void selectParticle(std::optional<std::uint32_t> particle) { selectedParticle_ = particle, selected_.reset(); }
+    void selectParticle(std::optional<std::uint32_t> particle) {
+        selectedParticle_ = particle, selected_.reset(), selectedFluid_.reset();
+    }
     std::optional<std::uint32_t> selectedParticle() const { return selectedParticle_; }
-    /// What a ray from the camera hits first: a body or a particle of the soft bodies.
+    /// Selects a particle of the fluid (and no body or soft particle).
+    void selectFluidParticle(std::optional<std::uint32_t> particle) {
+        selectedFluid_ = particle, selected_.reset(), selectedParticle_.reset();
+    }
+    std::optional<std::uint32_t> selectedFluidParticle() const { return selectedFluid_; }
+    /// What a ray from the camera hits first: a body, a particle of the soft bodies or of the fluid
+    /// (a fluid's tank walls are not drawn and not picked).
     struct Picked {
         std::optional<std::size_t> body;
         std::optional<std::uint32_t> particle;
+        std::optional<std::uint32_t> fluidParticle;
     };
     Picked pickAt(const Ray& ray) const;
     /// Picks the body or particle under the ray and selects it (or clears the selection when
@@ -112,7 +126,9 @@ public:
     /// held (pinned) while dragged, each step moving it and its predicted position a share of the
     /// way to the cursor (on the plane through it facing the camera), so its neighbours follow; let
     /// go, it keeps the velocity of its last step (a particle pinned by the scene stays pinned
-    /// where it is left). Static bodies cannot be dragged.
+    /// where it is left). A fluid's particle: each step it moves the same share of the way (kept
+    /// inside the fluid's container) and its neighbours make way; let go, it keeps the velocity of its
+    /// last step. Static bodies cannot be dragged.
     bool beginDrag(const Ray& ray, const Vec3& viewDirection);
     void dragTo(const Ray& ray);
     void endDrag() { drag_.reset(); }
@@ -161,7 +177,8 @@ private:
         Vec3 target;                            ///< m, where the cursor is in the world
         Vec3 planePoint;                        ///< m
         Vec3 planeNormal;                       ///< unit
-        bool particle = false;
+        bool particle = false;                  ///< a soft particle
+        bool fluid = false;                     ///< a fluid particle
         Vec3 particleVelocity = Vec3::Zero();  ///< m/s, of its last step
     };
 
@@ -173,6 +190,7 @@ private:
     EnergySeries energies_;
     std::optional<std::size_t> selected_;
     std::optional<std::uint32_t> selectedParticle_;
+    std::optional<std::uint32_t> selectedFluid_;
     std::optional<Drag> drag_;
     std::unique_ptr<gplref::ReferenceWorld> reference_;
     std::vector<std::array<double, 7>> ghostPoses_;

@@ -30,6 +30,10 @@ int main(int argc, char** argv) {
     app.add_flag("--no-panel", noPanel, "start without the side panel");
     app.add_flag("--ghost", o.ghost, "start with the reference ghost (builds with the reference engine)");
     app.add_flag("--benchmark", o.benchmark, "print the mean frame time at the end");
+    app.add_option("--fluid-particles", o.fluidParticles,
+                   "replace the scene's fluid by this many particles at rest, filling its container from the floor "
+                   "(to time the drawing: with --paused --benchmark)")
+        ->check(gpl::cli::wholeNumber(1, 10000000));
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     o.panel = !noPanel;
     if (!positional.empty()) o.scene = positional;

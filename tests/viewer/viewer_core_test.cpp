@@ -1,12 +1,13 @@
 // The viewer's GL-free parts: camera, fixed-step clock, history, picking, the shapes drawn besides
-// the bodies (walls, ropes, contact normals), what is drawn of cloth, ropes and soft bodies, and
-// the session that keys and mouse drive.
+// the bodies (walls, ropes, contact normals), what is drawn of cloth, ropes, soft bodies and fluids,
+// and the session that keys and mouse drive.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "camera.h"
 #include "clock.h"
+#include "fluid_shapes.h"
 #include "history.h"
 #include "picking.h"
 #include "scene_shapes.h"
@@ -669,6 +670,189 @@ TEST(SessionSoft, TheIterationsGoThroughTheSessionAndTheGhost) {
     Session other{scenes().find("rope-pbd-xpbd")};
     for (int i = 0; i < 100; ++i) other.stepOnce();
     EXPECT_NE(other.engine().softBodies().x, s.engine().softBodies().x) << "3 sweeps are not the scene's own";
+}
+
+// ---- Fluids (worksheet 9) -----------------------------------------------------------------------
+
+// Relative luminance's weights (Rec. 709), for "lighter" and "darker".
+double luma(const std::uint8_t c[4]) { return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]; }
+
+TEST(FluidShapes, TheDensityMapIsWhiteAtZeroBlueBelowRedAboveAndClamped) {
+    std::uint8_t zero[4], low[4], high[4], beyond[4], nan[4];
+    divergingColour(0.0, zero);
+    EXPECT_EQ(zero[0], zero[1]);
+    EXPECT_EQ(zero[1], zero[2]) << "grey at the centre";
+    EXPECT_GT(luma(zero), 230.0) << "and nearly white";
+    divergingColour(-1.0, low);
+    divergingColour(1.0, high);
+    EXPECT_GT(low[2], low[0] + 100) << "blue below";
+    EXPECT_GT(high[0], high[2] + 100) << "red above";
+    divergingColour(7.0, beyond);
+    EXPECT_TRUE(std::equal(beyond, beyond + 4, high)) << "clamped";
+    divergingColour(std::nan(""), nan);
+    EXPECT_TRUE(std::equal(nan, nan + 4, zero)) << "an undefined error shows as none";
+    // Either side darker with every step away from the centre.
+    for (double t = 0.0; t < 1.0; t += 0.125) {
+        std::uint8_t a[4], b[4];
+        divergingColour(t, a), divergingColour(t + 0.125, b);
+        EXPECT_GT(luma(a), luma(b)) << "above, at " << t;
+        divergingColour(-t, a), divergingColour(-t - 0.125, b);
+        EXPECT_GT(luma(a), luma(b)) << "below, at " << t;
+    }
+}
+
+TEST(FluidShapes, TheSpeedMapGrowsLighterFromZeroToItsRange) {
+    for (double t = 0.0; t < 1.0; t += 0.0625) {
+        std::uint8_t a[4], b[4];
+        sequentialColour(t, a), sequentialColour(t + 0.0625, b);
+        EXPECT_LT(luma(a), luma(b)) << "at " << t;
+    }
+    std::uint8_t below[4], zero[4];
+    sequentialColour(-1.0, below), sequentialColour(0.0, zero);
+    EXPECT_TRUE(std::equal(below, below + 4, zero)) << "clamped";
+}
+
+// A block of water, 4 x 3 x 2 particles 2.5 cm apart, in a tank with room above.
+Fluids smallBlock() {
+    Fluids f;
+    FluidParameters p;
+    p.spacing = 0.025;
+    p.smoothingLength = 0.05;
+    f.setParameters(p);
+    f.setContainer({Vec3::Zero(), Vec3(0.1, 0.2, 0.05)});
+    f.addBlock(Vec3::Zero(), Vec3(0.1, 0.075, 0.05));
+    return f;
+}
+
+TEST(FluidShapes, ParticlesAreColouredByTheirDensityErrorOrSpeed) {
+    Fluids f = smallBlock();
+    ASSERT_EQ(f.size(), 24u);
+    f.density[0] = 1010.0;  // 1 % compressed
+    f.density[1] = 900.0;   // 10 % short: beyond the range
+    f.v[2] = Vec3(0.0, -1.0, 0.0);
+    std::vector<std::uint8_t> c;
+    fluidColours(f, FluidColouring::DensityError, 0.02, c);
+    ASSERT_EQ(c.size(), 4 * f.size());
+    std::uint8_t expected[4];
+    divergingColour(0.5, expected);  // 1 % of a 2 % range (to rounding of 1010 / 1000 - 1)
+    EXPECT_TRUE(std::equal(expected, expected + 4, &c[0]));
+    divergingColour(-1.0, expected);
+    EXPECT_TRUE(std::equal(expected, expected + 4, &c[4]));
+    divergingColour(0.0, expected);
+    EXPECT_TRUE(std::equal(expected, expected + 4, &c[8])) << "at rest density whatever its speed";
+    fluidColours(f, FluidColouring::Speed, 2.0, c);
+    sequentialColour(0.5, expected);
+    EXPECT_TRUE(std::equal(expected, expected + 4, &c[8]));
+    sequentialColour(0.0, expected);
+    EXPECT_TRUE(std::equal(expected, expected + 4, &c[0])) << "at rest whatever its density";
+    f.density.clear();
+    EXPECT_EQ(densityErrorOf(f, 0), 0.0) << "before any density is computed";
+}
+
+TEST(FluidShapes, TheTanksWallsFloorAndLidAreToldFromOtherBodies) {
+    for (const char* name : {"dam-break", "drop-into-pool", "pour-onto-sphere", "tank-slosh"}) {
+        PhysicsEngine e;
+        load(e, scenes().find(name));
+        ASSERT_TRUE(e.fluids().container()) << name;
+        std::size_t walls = 0;
+        for (const Body& b : e.bodies()) walls += isTankWall(b, *e.fluids().container()) ? 1 : 0;
+        EXPECT_EQ(walls, 6u) << name << ": four walls, a floor and a lid";
+    }
+    PhysicsEngine e;
+    load(e, scenes().find("pour-onto-sphere"));
+    EXPECT_FALSE(isTankWall(e.body("ball"), *e.fluids().container())) << "a sphere inside the tank";
+    const FluidBox tank = *e.fluids().container();
+    Body inside = box("inside", Vec3::Constant(0.05), 1.0).at(Vec3(0.0, 0.1, 0.0)).makeStatic();
+    EXPECT_FALSE(isTankWall(inside, tank));
+    Body away = box("away", Vec3::Constant(0.05), 1.0).at(Vec3(3.0, 0.1, 0.0)).makeStatic();
+    EXPECT_FALSE(isTankWall(away, tank)) << "outside, not touching";
+    Body moving = box("moving", Vec3::Constant(0.05), 1.0).at(Vec3(0.0, -0.05, 0.0));
+    EXPECT_FALSE(isTankWall(moving, tank)) << "under the floor but free to move";
+}
+
+TEST(FluidShapes, ARayPicksTheNearestParticleItEnters) {
+    const Fluids f = smallBlock();
+    // Particle (i, j, k) = (1, 2, 0) is at (0.0375, 0.0625, 0.0125); index i + 4 (j + 3 k).
+    const auto front = pickFluidParticle(f, Ray{Vec3(0.0375, 0.0625, 5.0), -Vec3::UnitZ()});
+    ASSERT_TRUE(front);
+    EXPECT_DOUBLE_EQ(f.x[front->particle].z(), 0.0375) << "the nearer of the two in line";
+    EXPECT_NEAR(front->distance, 5.0 - 0.0375 - f.radius(), 1e-12);
+    const auto back = pickFluidParticle(f, Ray{Vec3(0.0375, 0.0625, -5.0), Vec3::UnitZ()});
+    ASSERT_TRUE(back);
+    EXPECT_EQ(back->particle, 1u + 4u * 2u) << "from behind, the one at z = 0.0125";
+    EXPECT_FALSE(pickFluidParticle(f, Ray{Vec3(0.0375, 0.3, 5.0), -Vec3::UnitZ()})) << "above the block";
+    EXPECT_FALSE(pickFluidParticle(f, Ray{Vec3(0.0375, 0.0625, 5.0), Vec3::UnitZ()})) << "away from it";
+}
+
+TEST(FluidShapes, TheBenchmarksFillKeepsOutOfTheBallAndStaysInTheContainer) {
+    PhysicsEngine e;
+    load(e, scenes().find("pour-onto-sphere"));
+    Fluids& f = e.fluids();
+    ASSERT_EQ(fillContainer(f, e.bodies(), 20000), 20000u);
+    const Body& ball = e.body("ball");
+    const FluidBox tank = *f.container();
+    double lowest = 1.0;
+    for (const Vec3& q : f.x) {
+        ASSERT_TRUE(tank.contains(q));
+        ASSERT_GE((q - ball.position).norm(), ball.radius + f.radius()) << "no particle inside the ball";
+        lowest = std::min(lowest, q.y());
+    }
+    EXPECT_EQ(lowest, tank.lower.y() + f.radius()) << "from the floor up";
+    // 32 x 40 x 32 lattice points in the 0.8 x 1 x 0.8 m tank, less those in the ball.
+    const std::size_t all = fillContainer(f, e.bodies(), 100000);
+    EXPECT_LT(all, 32u * 40u * 32u);
+    EXPECT_GT(all, 32u * 40u * 32u - 1000u) << "a ball of 0.12 m holds about 440 lattice points";
+    Fluids none;
+    EXPECT_EQ(fillContainer(none, e.bodies(), 10), 0u) << "no container, nothing to fill";
+}
+
+TEST(SessionFluid, AParticleIsPickedThroughTheTanksFrontWallAndDraggedTheFluidMakingWay) {
+    Session s{scenes().find("dam-break")};
+    const Fluids& f = s.engine().fluids();
+    // The column's particle nearest the front wall (z = a = 0.25) at mid height, seen from the front.
+    std::uint32_t target = 0;
+    for (std::uint32_t i = 0; i < f.size(); ++i) {
+        const Vec3 d = f.x[i] - Vec3(0.1375, 0.2375, 0.2375);
+        if (d.norm() < (f.x[target] - Vec3(0.1375, 0.2375, 0.2375)).norm()) target = i;
+    }
+    const Vec3 eye(0.1375, 0.2375, 3.0);
+    const Ray ray{eye, (f.x[target] - eye).normalized()};
+    const Session::Picked hit = s.pickAt(ray);
+    ASSERT_TRUE(hit.fluidParticle) << "the wall in front is not picked";
+    EXPECT_EQ(*hit.fluidParticle, target);
+    EXPECT_FALSE(hit.body);
+    ASSERT_TRUE(s.beginDrag(ray, -Vec3::UnitZ()));
+    EXPECT_EQ(s.selectedFluidParticle(), target);
+    EXPECT_FALSE(s.selected());
+    // Pulled 0.3 m right, into the empty tank: after n steps it is exp(-rate h n) of the way short.
+    const Vec3 goal = f.x[target] + Vec3(0.3, 0.0, 0.0);
+    s.dragTo(Ray{eye, (goal - eye).normalized()});
+    const int n = 40;
+    for (int i = 0; i < n; ++i) s.stepOnce();
+    const double left = 0.3 * std::exp(-Session::kParticleDragRate * s.engine().timeStep() * n);
+    // The goal moves nowhere; each step puts the particle exactly its share closer (1e-9 relative
+    // to the 0.3 m: rounding of n moves).
+    EXPECT_NEAR((f.x[target] - goal).norm(), left, 0.3 * 1e-9);
+    EXPECT_TRUE(s.edited());
+    s.endDrag();
+    ASSERT_TRUE(s.stepBack());
+    EXPECT_FALSE(s.dragging());
+    EXPECT_EQ(s.selectedFluidParticle(), target) << "the selection stays";
+    s.reset();
+    EXPECT_FALSE(s.selectedFluidParticle());
+}
+
+TEST(SessionFluid, TheIterationsGoThroughTheSession) {
+    Session s{scenes().find("tank-slosh")};
+    s.setFluidIterations(9);
+    EXPECT_EQ(s.engine().fluids().parameters().iterations, 9);
+    s.setFluidIterations(0);
+    EXPECT_EQ(s.engine().fluids().parameters().iterations, 1) << "clamped";
+    s.setFluidIterations(100000);
+    EXPECT_EQ(s.engine().fluids().parameters().iterations, Session::kMaxFluidIterations);
+    EXPECT_STREQ(fluidMethodName(s.engine()), "PBF");
+    Session sph{scenes().find("dam-break-sph")};
+    EXPECT_STREQ(fluidMethodName(sph.engine()), "WCSPH");
 }
 
 TEST(EnergySeries, KeepsTheLastSamples) {

@@ -1,0 +1,133 @@
+#include "fluid_shapes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gpl::viewer {
+namespace {
+
+// Piecewise linear through evenly spaced stops (r, g, b) at t = 0, 1 / (n - 1), ..., 1.
+template <std::size_t N>
+void throughStops(const std::uint8_t (&stops)[N][3], double t, std::uint8_t rgba[4]) {
+    t = std::clamp(std::isfinite(t) ? t : 0.0, 0.0, 1.0) * (N - 1);
+    const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(t), N - 2);
+    const double f = t - k;
+    for (int c = 0; c < 3; ++c) {
+        rgba[c] = static_cast<std::uint8_t>(std::lround(stops[k][c] + f * (stops[k + 1][c] - stops[k][c])));
+    }
+    rgba[3] = 255;
+}
+
+}  // namespace
+
+const char* fluidColouringName(FluidColouring colouring) {
+    return colouring == FluidColouring::Speed ? "speed" : "density error";
+}
+
+void divergingColour(double t, std::uint8_t rgba[4]) {
+    // Blue, white, red: equal steps of lightness either side of the white centre.
+    static const std::uint8_t stops[5][3] = {{40, 70, 170}, {120, 160, 225}, {245, 245, 245}, {235, 140, 110}, {180, 30, 40}};
+    throughStops(stops, 0.5 * ((std::isfinite(t) ? t : 0.0) + 1.0), rgba);
+}
+
+void sequentialColour(double t, std::uint8_t rgba[4]) {
+    // Dark blue, blue, teal, green, yellow (after viridis): lighter with every stop.
+    static const std::uint8_t stops[5][3] = {{50, 30, 110}, {55, 90, 160}, {35, 145, 140}, {95, 195, 90}, {250, 230, 40}};
+    throughStops(stops, t, rgba);
+}
+
+double densityErrorOf(const Fluids& fluid, std::size_t i) {
+    if (i >= fluid.density.size()) return 0.0;
+    return fluid.density[i] / fluid.parameters().restDensity - 1.0;
+}
+
+void fluidColours(const Fluids& fluid, FluidColouring colouring, double range, std::vector<std::uint8_t>& rgba) {
+    const std::size_t n = fluid.size();
+    rgba.resize(4 * n);
+    const double inverse = 1.0 / std::max(range, 1e-12);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (colouring == FluidColouring::Speed) {
+            sequentialColour(fluid.v[i].norm() * inverse, &rgba[4 * i]);
+        } else {
+            divergingColour(densityErrorOf(fluid, i) * inverse, &rgba[4 * i]);
+        }
+    }
+}
+
+const char* fluidMethodName(const PhysicsEngine& engine) {
+    return engine.requiredStages().contains(Stage::FluidSph) ? "WCSPH" : "PBF";
+}
+
+bool isTankWall(const Body& body, const FluidBox& container) {
+    constexpr double kTouch = 1e-3;  // m: walls laid against the container, within a millimetre
+    if (!body.isStatic() || body.shape != Shape::Box) return false;
+    if (!body.orientation.toRotationMatrix().isIdentity(1e-9)) return false;
+    const Vec3 lower = body.position - body.halfExtents, upper = body.position + body.halfExtents;
+    // Outside: some axis where the box lies beyond a face of the container (to the tolerance) ...
+    bool outside = false;
+    // ... and touching: within the tolerance of the container on every axis.
+    bool near = true;
+    for (int k = 0; k < 3; ++k) {
+        outside = outside || upper[k] <= container.lower[k] + kTouch || lower[k] >= container.upper[k] - kTouch;
+        near = near && upper[k] >= container.lower[k] - kTouch && lower[k] <= container.upper[k] + kTouch;
+    }
+    return outside && near;
+}
+
+std::optional<ParticleHit> pickFluidParticle(const Fluids& fluid, const Ray& ray) {
+    const double r = fluid.radius();
+    const Vec3 d = ray.direction.normalized();
+    std::optional<ParticleHit> best;
+    for (std::size_t i = 0; i < fluid.size(); ++i) {
+        // |o + t d - x|^2 = r^2: t = b - sqrt(b^2 - c) with b = (x - o) . d, c = |x - o|^2 - r^2.
+        const Vec3 to = fluid.x[i] - ray.origin;
+        const double b = to.dot(d), c = to.squaredNorm() - r * r;
+        const double disc = b * b - c;
+        if (disc < 0.0) continue;
+        const double t = c <= 0.0 ? 0.0 : b - std::sqrt(disc);  // from inside: at once
+        if (t < 0.0) continue;
+        if (!best || t < best->distance) best = ParticleHit{static_cast<std::uint32_t>(i), t};
+    }
+    return best;
+}
+
+Bounds fluidBounds(const Fluids& fluid) {
+    Bounds box;
+    for (const Vec3& q : fluid.x) box.extend(q);
+    if (!box.isEmpty()) box.min() -= Vec3::Constant(fluid.radius()), box.max() += Vec3::Constant(fluid.radius());
+    return box;
+}
+
+std::size_t fillContainer(Fluids& fluid, const std::vector<Body>& bodies, std::size_t count) {
+    if (!fluid.container()) return 0;
+    const FluidBox tank = *fluid.container();
+    const FluidParameters parameters = fluid.parameters();
+    const double s = parameters.spacing;
+    fluid.clear();  // removes the container too: set again below
+    fluid.setContainer(tank);
+    const auto cells = [&](int k) { return static_cast<int>(std::floor((tank.upper[k] - tank.lower[k]) / s)); };
+    const int nx = cells(0), ny = cells(1), nz = cells(2);
+    const auto inside = [&](const Vec3& q) {
+        for (const Body& b : bodies) {
+            if (!b.isStatic() || isTankWall(b, tank)) continue;
+            if (b.shape == Shape::Sphere && (q - b.position).norm() < b.radius + 0.5 * s) return true;
+            if (b.shape == Shape::Box) {
+                const Vec3 local = b.orientation.conjugate() * (q - b.position);
+                if ((local.cwiseAbs().array() < (b.halfExtents + Vec3::Constant(0.5 * s)).array()).all()) return true;
+            }
+        }
+        return false;
+    };
+    for (int j = 0; j < ny && fluid.size() < count; ++j) {
+        for (int k = 0; k < nz && fluid.size() < count; ++k) {
+            for (int i = 0; i < nx && fluid.size() < count; ++i) {
+                const Vec3 q = tank.lower + s * Vec3(i + 0.5, j + 0.5, k + 0.5);
+                if (!inside(q)) fluid.addParticle(q);
+            }
+        }
+    }
+    return fluid.size();
+}
+
+}  // namespace gpl::viewer

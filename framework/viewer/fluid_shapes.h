@@ -1,0 +1,64 @@
+// What the viewer draws of a fluid (worksheet 9), as geometry and colours without any GL: each
+// particle's colour by its density error or its speed, the tank walls around the fluid's container
+// (drawn as the container's glass box, not as the boxes that would hide the fluid), the particle a
+// ray picks, and the benchmark's fill of a container. The renderer turns these into one vertex
+// array of points; the tests check them.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "camera.h"
+#include "gpl/engine.h"
+#include "gpl/fluids.h"
+#include "soft_shapes.h"
+
+namespace gpl::viewer {
+
+/// What a fluid particle's colour shows.
+enum class FluidColouring { DensityError, Speed };
+const char* fluidColouringName(FluidColouring colouring);  ///< "density error", "speed"
+
+/// The default ranges of the colour maps: +-2 % of the rest density (PBF's iterations hold the
+/// compression to about a per cent; a free surface's particles, short of neighbours, read tens of
+/// per cent below and saturate blue), and 0 .. 2 m/s (the scenes' flows: a dam break's front runs
+/// at about sqrt(2 g a) ~ 2.2 m/s).
+constexpr double kDefaultDensityRange = 0.02;
+constexpr double kDefaultSpeedRange = 2.0;  ///< m/s
+
+/// A diverging map centred on 0 for t in [-1, 1] (clamped): blue below, white at 0, red above.
+void divergingColour(double t, std::uint8_t rgba[4]);
+/// A sequential map for t in [0, 1] (clamped): dark blue through teal and green to yellow, its
+/// lightness rising with t.
+void sequentialColour(double t, std::uint8_t rgba[4]);
+
+/// rho_i / rho0 - 1 from the fluid's last density computation (0 before there is one).
+double densityErrorOf(const Fluids& fluid, std::size_t i);
+
+/// Four bytes per particle: density error over +-range (diverging) or speed over 0 .. range
+/// (sequential, range in m/s); range > 0.
+void fluidColours(const Fluids& fluid, FluidColouring colouring, double range, std::vector<std::uint8_t>& rgba);
+
+/// "PBF" or "WCSPH": the method the engine's required stages step the fluid with.
+const char* fluidMethodName(const PhysicsEngine& engine);
+
+/// True for a static, unturned box outside the container that touches it (within a millimetre): a
+/// wall, the floor or the lid of the tank the scene builds around the fluid.
+bool isTankWall(const Body& body, const FluidBox& container);
+
+/// The fluid particle whose sphere (of the fluid's radius()) the ray enters first, and how far
+/// along the ray; nothing when it misses every one.
+std::optional<ParticleHit> pickFluidParticle(const Fluids& fluid, const Ray& ray);
+
+/// The box the fluid's particles fill, grown by their radius (m); empty without particles.
+Bounds fluidBounds(const Fluids& fluid);
+
+/// Replaces the fluid's particles by `count` at rest on a cubic lattice at its rest spacing, filling
+/// its container layer by layer from the floor and leaving out lattice points inside a static
+/// sphere or box; returns how many it placed (fewer when the container is full). Without a
+/// container, nothing changes and it returns 0.
+std::size_t fillContainer(Fluids& fluid, const std::vector<Body>& bodies, std::size_t count);
+
+}  // namespace gpl::viewer
