@@ -82,13 +82,14 @@ public:
     /// Removes the body at this index with the springs and constraints attached to it (throws
     /// std::out_of_range when there is none).
     void remove(std::size_t index);
-    /// Removes every body, spring, constraint and rope, the container and the soft bodies, and
-    /// resets time and the step counter.
+    /// Removes every body, spring, constraint and rope, the container, the soft bodies and the
+    /// fluid's particles, and resets time and the step counter.
     void clear();
 
     /// The whole dynamic state: bodies, time, step counter, position Verlet's previous positions,
-    /// and the soft bodies' particles: positions, velocities and inverse masses (a dragged particle
-    /// is pinned while held) (for history and replays).
+    /// the soft bodies' particles: positions, velocities and inverse masses (a dragged particle is
+    /// pinned while held), and the fluid's particles' positions and velocities (for history and
+    /// replays).
     struct State {
         std::vector<Body> bodies;
         double time = 0.0;
