@@ -269,7 +269,9 @@ std::string App::state() const {
     // Each soft mesh with a particle free to move counts as a moving body (after the bodies).
     const bool bodiesInFront = camera_.movingBodies(e.bodies(), sceneWidth(), height_, boxes);
     const bool meshesInFront = movingMeshes(camera_, soft, sceneWidth(), height_, boxes);
-    j["view"]["behind_eye"] = !(bodiesInFront && meshesInFront);
+    // The fluid counts as one moving body (after the meshes).
+    const bool fluidInFront = fluidPixels(camera_, e.fluids(), sceneWidth(), height_, boxes);
+    j["view"]["behind_eye"] = !(bodiesInFront && meshesInFront && fluidInFront);
     j["view"]["bodies"] = nlohmann::json::array();
     for (const PixelBox& b : boxes) j["view"]["bodies"].push_back({b.left, b.top, b.right, b.bottom});
     j["view"]["free"] = {0, 0, sceneWidth(), height_};

@@ -99,6 +99,23 @@ Bounds fluidBounds(const Fluids& fluid) {
     return box;
 }
 
+bool fluidPixels(const Camera& camera, const Fluids& fluid, int width, int height, std::vector<PixelBox>& boxes) {
+    if (fluid.empty()) return true;
+    constexpr double kPi = 3.14159265358979323846;
+    const double pixelsPerRadian = 0.5 * std::max(1, height) / std::tan(Camera::kFieldOfViewY * kPi / 360.0);
+    const double inf = std::numeric_limits<double>::infinity();
+    PixelBox box{inf, inf, -inf, -inf};
+    for (const Vec3& q : fluid.x) {
+        double x, y;
+        if (!camera.project(q, width, height, x, y)) return false;
+        // A particle's sphere spans about its radius over its depth, as a mesh's in movingMeshes().
+        const double r = fluid.radius() * pixelsPerRadian / (q - camera.eye()).dot(camera.forward());
+        box = {std::min(box.left, x - r), std::min(box.top, y - r), std::max(box.right, x + r), std::max(box.bottom, y + r)};
+    }
+    boxes.push_back(box);
+    return true;
+}
+
 std::size_t fillContainer(Fluids& fluid, const std::vector<Body>& bodies, std::size_t count) {
     if (!fluid.container()) return 0;
     const FluidBox tank = *fluid.container();

@@ -55,6 +55,11 @@ std::optional<ParticleHit> pickFluidParticle(const Fluids& fluid, const Ray& ray
 /// The box the fluid's particles fill, grown by their radius (m); empty without particles.
 Bounds fluidBounds(const Fluids& fluid);
 
+/// The pixels the fluid covers (every particle as a sphere of its radius), appended to boxes as
+/// movingMeshes() appends a mesh's; false (and nothing appended) when a particle lies behind the eye.
+/// Nothing without particles.
+bool fluidPixels(const Camera& camera, const Fluids& fluid, int width, int height, std::vector<PixelBox>& boxes);
+
 /// Replaces the fluid's particles by `count` at rest on a cubic lattice at its rest spacing, filling
 /// its container layer by layer from the floor and leaving out lattice points inside a static
 /// sphere or box; returns how many it placed (fewer when the container is full). Without a
