@@ -103,10 +103,11 @@ void tankSlosh(PhysicsEngine& e) {
 }
 
 // A fluid scene of worksheet 9: the stages of PBF (or of WCSPH), step h; the view looks at `target`
-// from `distance` for `seconds`.
+// from `distance` for `seconds`: the first seconds hold the motion (the surge, the splash, the first
+// run across the tank), and a fluid's step is costly to run for long in the viewer's checks.
 Scene fluidScene(const std::string& name, const std::string& description, void (*build)(PhysicsEngine&),
                  const Vec3& target, double distance, double h = kFluidStep, const StageSet& stages = kFluidStages,
-                 double seconds = 10.0) {
+                 double seconds = 3.0) {
     Scene s;
     s.name = name;
     s.description = description;
