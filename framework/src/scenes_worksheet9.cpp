@@ -85,13 +85,14 @@ void dropIntoPool(PhysicsEngine& e) {
     }
 }
 
-// A column of water 0.15 m square and 0.4 m tall released above a static ball of radius 0.12 m in a
-// tank: it pours onto the ball, parts around it, runs off its sides and spreads over the floor.
+// A column of water 0.2 m square and 0.45 m tall released above a static ball of radius 0.12 m in a
+// tank 0.6 m square: it pours onto the ball, parts around it, runs off its sides and spreads over
+// the floor a few particles deep.
 void pourOntoSphere(PhysicsEngine& e) {
-    addTank(e, {{-0.4, 0.0, -0.4}, {0.4, 1.0, 0.4}});
+    addTank(e, {{-0.3, 0.0, -0.3}, {0.3, 1.0, 0.3}});
     e.add(sphere("ball", 0.12, 1.0).at({0.0, 0.2, 0.0}).makeStatic());
     e.fluids().setParameters(water());
-    e.fluids().addBlock({-0.075, 0.4, -0.075}, {0.075, 0.8, 0.075});
+    e.fluids().addBlock({-0.1, 0.4, -0.1}, {0.1, 0.85, 0.1});
 }
 
 // A tank 1 m long holding water 0.2 m deep, pushed at t = 0: the water moves at 1 m/s towards the
@@ -133,7 +134,7 @@ void addWorksheet9Scenes(SceneRegistry& r) {
     r.add(fluidScene("drop-into-pool", "A ball of water falls into a pool: it splashes and waves run to the walls.",
                      dropIntoPool, {0.0, 0.25, 0.0}, 1.8));
     r.add(fluidScene("pour-onto-sphere", "A column of water pours onto a ball, parts around it and spreads.",
-                     pourOntoSphere, {0.0, 0.35, 0.0}, 2.2));
+                     pourOntoSphere, {0.0, 0.4, 0.0}, 2.1));
     r.add(fluidScene("tank-slosh", "Water in a tank given a push: it piles up against a wall and sloshes back.",
                      tankSlosh, {0.0, 0.2, 0.0}, 2.0));
 }

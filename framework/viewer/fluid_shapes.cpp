@@ -123,7 +123,8 @@ std::size_t fillContainer(Fluids& fluid, const std::vector<Body>& bodies, std::s
     const double s = parameters.spacing;
     fluid.clear();  // removes the container too: set again below
     fluid.setContainer(tank);
-    const auto cells = [&](int k) { return static_cast<int>(std::floor((tank.upper[k] - tank.lower[k]) / s)); };
+    // A tank a whole number of spacings wide holds that many, whatever the rounding of the quotient.
+    const auto cells = [&](int k) { return static_cast<int>(std::floor((tank.upper[k] - tank.lower[k]) / s + 1e-9)); };
     const int nx = cells(0), ny = cells(1), nz = cells(2);
     const auto inside = [&](const Vec3& q) {
         for (const Body& b : bodies) {
