@@ -1,7 +1,7 @@
 // An engine's world as the checker sends it and the submission's engine answers it: what a step
 // reads (settings, bodies, springs, constraints, ropes, the container, the clock, last positions,
-// the contacts so far, the soft bodies) and what it changes (bodies, last positions, contacts, the
-// particles' positions and velocities).
+// the contacts so far, the soft bodies, the fluid) and what it changes (bodies, last positions,
+// contacts, the soft and fluid particles' positions and velocities).
 //
 // The checker keeps its own engine (the "mirror") with the framework's code and no student code:
 // it loads scenes, adds bodies, owns gravity and the time step, measures energies and checks that
@@ -10,6 +10,7 @@
 
 #include <cstddef>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,7 @@ struct EngineAccess {
         w.u64(e.steps_);
         w.contacts(e.contacts_);
         writeSoft(w, e.soft_);
+        writeFluid(w, e.fluids_);
         w.u8(withBodies ? 1 : 0);
         if (withBodies) {
             w.bodies(e.bodies_);
@@ -116,6 +118,7 @@ struct EngineAccess {
         e.contacts_ = r.contacts();
         e.nearPairs_.clear();  // found anew by detectCollisions() in every step, as step() does
         readSoft(r, e.soft_);
+        readFluid(r, e.fluids_);
         if (r.u8()) {
             std::vector<Body> bodies = r.bodies();
             if (!sameNames(bodies, e.bodies_)) e.friction_.forget();
@@ -145,6 +148,8 @@ struct EngineAccess {
         w.contacts(e.contacts_);
         w.vec3s(e.soft_.x);
         w.vec3s(e.soft_.v);
+        w.vec3s(e.fluids_.x);
+        w.vec3s(e.fluids_.v);
     }
 
     /// The checker's side: the motion of every body as the hook left it, copied into the mirror
@@ -170,11 +175,21 @@ struct EngineAccess {
         if (x.size() != soft.x.size() || v.size() != soft.x.size()) {
             throw grading::ProtocolError("the engine answered for another number of particles");
         }
+        // The fluid's positions and velocities likewise: as many as the mirror has, finite (checked
+        // by endStep(), which names the particle) before any test reads them.
+        Fluids& fluid = mirror.fluids_;
+        std::vector<Vec3> fx = r.vec3s(), fv = r.vec3s();
+        if (fx.size() != fluid.x.size() || fv.size() != fluid.x.size()) {
+            throw grading::ProtocolError("the engine answered for another number of fluid particles");
+        }
         mirror.previousPositions_ = std::move(previous);
         mirror.contacts_ = std::move(contacts);
         soft.x = std::move(x);
         soft.v = std::move(v);
         soft.p = soft.x;
+        fluid.x = std::move(fx);
+        fluid.v = std::move(fv);
+        fluid.p = fluid.x;
     }
 
     /// Bytes of a body's motion on the pipe.
@@ -374,6 +389,62 @@ private:
         const Vec3 wind = r.vec3();
         const double drag = r.number();
         s.setWind(wind, drag);
+    }
+
+    // ---- The fluid, checker to engine: parameters, container and particles whole (a step reads
+    // them all); densities, multipliers and pressures start afresh in every step --------------------
+
+    static void writeFluid(grading::Writer& w, const Fluids& f) {
+        const FluidParameters& p = f.parameters();
+        for (const double u : {p.restDensity, p.spacing, p.smoothingLength, p.relaxation, p.tensile.k, p.tensile.dq,
+                               p.xsph, p.soundSpeed, p.artificialViscosity}) {
+            w.number(u);
+        }
+        w.i32(p.tensile.n);
+        w.i32(p.iterations);
+        w.u8(f.container() ? 1 : 0);
+        if (f.container()) {
+            w.vec3(f.container()->lower);
+            w.vec3(f.container()->upper);
+        }
+        w.vec3s(f.x);
+        w.vec3s(f.v);
+    }
+
+    /// The engine's side of writeFluid(); the parameters checked as setParameters() checks them,
+    /// every position and velocity finite.
+    static void readFluid(grading::Reader& r, Fluids& f) {
+        using grading::ProtocolError;
+        FluidParameters p;
+        for (double* u : {&p.restDensity, &p.spacing, &p.smoothingLength, &p.relaxation, &p.tensile.k, &p.tensile.dq,
+                          &p.xsph, &p.soundSpeed, &p.artificialViscosity}) {
+            *u = r.number();
+        }
+        p.tensile.n = r.i32();
+        p.iterations = r.i32();
+        f.clear();
+        try {
+            f.setParameters(p);
+            if (r.u8()) {
+                FluidBox box;
+                box.lower = r.vec3();
+                box.upper = r.vec3();
+                f.setContainer(box);
+            }
+        } catch (const std::invalid_argument& e) {
+            throw ProtocolError(std::string("the fluid: ") + e.what());
+        }
+        std::vector<Vec3> x = r.vec3s(), v = r.vec3s();
+        if (v.size() != x.size()) throw ProtocolError("fluid positions and velocities of unequal counts");
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            if (!x[i].allFinite() || !v[i].allFinite()) throw ProtocolError("a fluid particle that is not finite");
+        }
+        f.x = std::move(x);
+        f.v = std::move(v);
+        f.p = f.x;
+        f.density.assign(f.x.size(), p.restDensity);
+        f.lambda.assign(f.x.size(), 0.0);
+        f.pressure.assign(f.x.size(), 0.0);
     }
 
     static std::uint32_t stageBits(const StageSet& s) {

@@ -39,7 +39,9 @@ std::size_t heldSteps = 0;
 std::vector<std::string> hooksOfStep(const PhysicsEngine& e) {
     std::vector<std::string> hooks{"simulationTimestep()"};
     const auto add = [&](std::initializer_list<Call> calls) {
-        for (Call c : calls) hooks.emplace_back(callName(c));
+        for (Call c : calls) {
+            if (std::find(hooks.begin(), hooks.end(), callName(c)) == hooks.end()) hooks.emplace_back(callName(c));
+        }
     };
     const bool turning = e.stageActive(Stage::Rotation);
     if (e.stageActive(Stage::Integration)) {
@@ -71,6 +73,12 @@ std::vector<std::string> hooksOfStep(const PhysicsEngine& e) {
         add({Call::SolveDistanceConstraint, Call::SolveVolumeConstraint, Call::ProjectParticleSphere,
              Call::ProjectParticleBox});
     }
+    if (e.stageActive(Stage::FluidProject)) {
+        add({Call::Poly6Kernel, Call::FluidDensity, Call::SpikyGradient, Call::DensityConstraintLambda,
+             Call::DensityCorrection});
+    }
+    if (e.stageActive(Stage::FluidVelocities)) add({Call::Poly6Kernel, Call::XsphViscosity});
+    if (e.stageActive(Stage::FluidSph)) add({Call::Poly6Kernel, Call::FluidDensity, Call::SpikyGradient});
     return hooks;
 }
 
@@ -141,7 +149,8 @@ void steps(PhysicsEngine& mirror, int n, const std::function<void(int)>& each) {
     // which stays in the processor's caches.
     const StepHooks named(mirror);
     const std::size_t perStep = 180 * std::max<std::size_t>(1, EngineAccess::bodies(mirror).size()) +
-                                EngineAccess::kParticleBytes * mirror.softBodies().x.size() + 64;
+                                EngineAccess::kParticleBytes * (mirror.softBodies().x.size() + mirror.fluids().size()) +
+                                64;
     const int batch = static_cast<int>(std::clamp<std::size_t>((1u << 20) / perStep, 1, 1000));
     int k = 0;
     std::string answer;  // a copy of each answer, its memory kept from batch to batch: each(k) may ask for hooks too

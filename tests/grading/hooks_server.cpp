@@ -231,7 +231,8 @@ void answer(Call call, Reader& in, Writer& out, std::unique_ptr<PhysicsEngine>& 
             const std::uint32_t n = in.u32();
             PhysicsEngine& e = *held;
             EngineAccess::readWorld(in, e);
-            out.reserve(out.size() + n * (180 * e.bodies().size() + EngineAccess::kParticleBytes * e.softBodies().x.size() + 64));
+            out.reserve(out.size() + n * (180 * e.bodies().size() +
+                                          EngineAccess::kParticleBytes * (e.softBodies().x.size() + e.fluids().size()) + 64));
             answerSteps(
                 out, n,
                 [&] {
