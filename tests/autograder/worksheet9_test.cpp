@@ -586,16 +586,16 @@ std::vector<double> measuredDensities(const Fluids& f) {
     const double c = 315.0 / (64.0 * kFluidPi * std::pow(h, 9));
     ParticleGrid grid;
     grid.find(f.x, h);
-    std::vector<double> rho(f.size());
+    std::vector<double> densities(f.size());
     for (std::size_t i = 0; i < f.size(); ++i) {
         double sum = c * std::pow(h * h, 3);
         for (std::uint32_t k = grid.start(i); k < grid.start(i) + grid.count(i); ++k) {
             const double q = h * h - (f.x[i] - f.x[grid.list()[k]]).squaredNorm();
             if (q > 0.0) sum += c * q * q * q;
         }
-        rho[i] = m * sum;
+        densities[i] = m * sum;
     }
-    return rho;
+    return densities;
 }
 
 /// The mean compression, as Fluids::densityError() defines it: mean of max(rho_i / rho0 - 1, 0).

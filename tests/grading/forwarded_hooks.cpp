@@ -490,10 +490,10 @@ double fluidDensity(const Vec3& x, const std::vector<FluidNeighbour>& neighbours
     w.fluidNeighbours(neighbours);
     w.number(mass);
     w.number(h);
-    double rho = 0.0;
+    double density = 0.0;
     grading::parseAnswer(Call::FluidDensity, grading::request(Call::FluidDensity, w.bytes()),
-                         [&](Reader& in) { rho = in.number(); });
-    return rho;
+                         [&](Reader& in) { density = in.number(); });
+    return density;
 }
 
 double densityConstraintLambda(const Vec3& x, const std::vector<FluidNeighbour>& neighbours, double density,
