@@ -189,7 +189,7 @@ void addWorksheet8Scenes(SceneRegistry& r) {
     r.add(softScene("soft-cube", "A soft cube dropped on the floor: it squashes and springs back, its volume kept.",
                     softCube, {0.0, 0.9, 0.0}, 3.0));
     r.add(softScene("soft-ball", "A soft ball dropped on the floor: it squashes and recovers, its volume kept.", softBall,
-                    {0.0, 1.1, 0.0}, 3.5));
+                    {0.0, 1.0, 0.0}, 3.8));
     r.add(softScene("rope-pbd-xpbd", "Two ropes released horizontal: PBD (stiffness 0.8) stretches, XPBD holds its length.",
                     ropePbdXpbd, {-1.2, 2.2, 0.0}, 5.5));
     r.add(softScene("cloth-stretchy-stiff", "Two hanging cloths: one with stretch compliance sags long, the other keeps its size.",
