@@ -191,7 +191,8 @@ TEST(Contacts, EveryContactSceneStaysFiniteAndSeparated) {
     SceneRegistry solverScenes;
     addStackingScenes(solverScenes);
     for (const Scene& s : scenes().all()) {
-        if (s.worksheet < 3) continue;
+        // From worksheet 3 on; worksheets 8 and 9 move particles, which their own tests step.
+        if (s.worksheet < 3 || s.worksheet >= 8) continue;
         const auto& others = solverScenes.all();
         if (std::any_of(others.begin(), others.end(), [&s](const Scene& o) { return o.name == s.name; })) continue;
         PhysicsEngine e;
