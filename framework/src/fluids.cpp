@@ -145,11 +145,11 @@ TensileCorrection Fluids::tensile() const {
 }
 
 void Fluids::gather(std::size_t i, const std::vector<Vec3>& positions) {
-    neighbours_.clear();
-    const std::uint32_t first = grid_.start(i), last = first + grid_.count(i);
-    for (std::uint32_t k = first; k < last; ++k) {
-        const std::uint32_t j = grid_.list()[k];
-        neighbours_.push_back({positions[j], v[j], density[j], lambda[j]});
+    const std::uint32_t* row = grid_.list().data() + grid_.start(i);
+    neighbours_.resize(grid_.count(i));
+    for (std::size_t k = 0; k < neighbours_.size(); ++k) {
+        const std::uint32_t j = row[k];
+        neighbours_[k] = {positions[j], v[j], density[j], lambda[j]};
     }
 }
 
@@ -196,16 +196,14 @@ void Fluids::project(const std::vector<Body>& bodies) {
     const TensileCorrection sCorr = tensile();
     delta_.resize(x.size());
     for (int iteration = 0; iteration < parameters_.iterations; ++iteration) {
-        // Densities at the predicted positions.
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            gather(i, p);
-            density[i] = fluidDensity(p[i], neighbours_, m, h);
-        }
-        // Multipliers of the density constraints, one-sided: a particle short of neighbours (at a
+        // Densities at the predicted positions, and from each the multiplier of its density
+        // constraint (which reads the particle's own density and its neighbours' positions, so one
+        // gathering of the neighbours serves both). One-sided: a particle short of neighbours (at a
         // free surface or a wall) counts as at rest, not as stretched, so that it is not pulled
         // into the fluid.
         for (std::size_t i = 0; i < x.size(); ++i) {
             gather(i, p);
+            density[i] = fluidDensity(p[i], neighbours_, m, h);
             lambda[i] = densityConstraintLambda(p[i], neighbours_, std::max(density[i], rho0), rho0, m, h, eps);
         }
         // Moves, all from the same multipliers, then applied.
@@ -240,11 +238,11 @@ int Fluids::sphSubsteps(double h) const {
     return std::max(1, static_cast<int>(std::ceil(h / longest - 1e-9)));
 }
 
-void Fluids::stepSph(double h, const Vec3& gravity, const std::vector<Body>& bodies) {
+void Fluids::stepSph(double h, const Vec3& gravity, const std::vector<Body>& bodies, int substeps) {
     const double m = mass(), hs = parameters_.smoothingLength, rho0 = parameters_.restDensity;
     const double c = parameters_.soundSpeed, alpha = parameters_.artificialViscosity;
     const double stiffness = rho0 * c * c / 7.0;  // Tait's B (Pa)
-    const int substeps = sphSubsteps(h);
+    if (substeps < 1) substeps = sphSubsteps(h);
     const double dt = h / substeps;
     delta_.resize(x.size());
     for (int substep = 0; substep < substeps; ++substep) {

@@ -44,7 +44,9 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
     for (int a = 0; a < 3; ++a) cells_[a] = static_cast<int>(std::floor(extent[a] / side_)) + 1;
     const std::size_t cellCount = static_cast<std::size_t>(cells_[0]) * cells_[1] * cells_[2];
 
-    // Counting sort: each cell's count, then its first entry, then the points in place.
+    // Counting sort: each cell's count, then its first entry, then the points in place (ascending
+    // within a cell), with a copy of their positions in the same order, so that the search below
+    // reads a cell's positions one after another in memory.
     cellOf_.resize(n);
     cellStart_.assign(cellCount + 1, 0);
     for (std::size_t i = 0; i < n; ++i) {
@@ -57,7 +59,12 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
     }
     for (std::size_t c = 0; c < cellCount; ++c) cellStart_[c + 1] += cellStart_[c];
     sorted_.resize(n);
-    for (std::size_t i = 0; i < n; ++i) sorted_[cellStart_[cellOf_[i]]++] = static_cast<std::uint32_t>(i);
+    sortedPoints_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t k = cellStart_[cellOf_[i]]++;
+        sorted_[k] = static_cast<std::uint32_t>(i);
+        sortedPoints_[k] = points[i];
+    }
     // Placing moved each cell's start to its end, which is the next cell's start: shift back.
     for (std::size_t c = cellCount; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
     cellStart_[0] = 0;
@@ -65,6 +72,7 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
     // Each point's neighbours from its own cell and the 26 around it.
     const double h2 = h * h;
     for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 q = points[i];
         const std::uint32_t cell = cellOf_[i];
         const int cx = static_cast<int>(cell % cells_[0]);
         const int cy = static_cast<int>(cell / cells_[0] % cells_[1]);
@@ -74,8 +82,7 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
                 for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, cells_[0] - 1); ++x) {
                     const std::size_t c = (static_cast<std::size_t>(z) * cells_[1] + y) * cells_[0] + x;
                     for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
-                        const std::uint32_t j = sorted_[k];
-                        if (j != i && (points[j] - points[i]).squaredNorm() < h2) list_.push_back(j);
+                        if ((sortedPoints_[k] - q).squaredNorm() < h2 && sorted_[k] != i) list_.push_back(sorted_[k]);
                     }
                 }
             }

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "gpl/fluid_experiments.h"
 #include "gpl/particle_grid.h"
 #include "gpl/scenes.h"
 
@@ -238,16 +239,7 @@ FluidParameters water() {
 // A closed tank of static boxes (floor, four walls, lid) 0.1 m thick around `inside`, which
 // becomes the fluid's container.
 void addTank(PhysicsEngine& e, const FluidBox& inside) {
-    const Vec3 size = inside.upper - inside.lower, centre = 0.5 * (inside.lower + inside.upper);
-    for (int axis = 0; axis < 3; ++axis) {
-        for (const int side : {-1, 1}) {
-            Vec3 half = 0.5 * size + Vec3::Constant(0.1);
-            half[axis] = 0.05;
-            Vec3 at = centre;
-            at[axis] += side * (0.5 * size[axis] + 0.05);
-            e.add(box("wall" + std::to_string(2 * axis + (side > 0)), half, 1.0).at(at).makeStatic());
-        }
-    }
+    for (const Body& wall : tankWalls(inside)) e.add(wall);
     e.fluids().setContainer(inside);
 }
 
@@ -382,23 +374,8 @@ TEST(Fluids, AStepAllocatesNothingOnceGrown) {
 
 // ---- The dam break against Martin and Moyce (1952) -----------------------------------------------
 
-// Martin and Moyce, "An experimental study of the collapse of liquid columns on a rigid horizontal
-// plane", Phil. Trans. R. Soc. Lond. A 244 (1952) 312-324, figure 3: the surge front's distance
-// from the back wall Z = z / a against T = t sqrt(2 g / a) for their column of n^2 = 2 (height 2a),
-// a = 2.25 in, as digitised in PySPH (pypr/pysph, pysph/examples/db_exp_data.py). The points up to
-// Z = 4.2, before the front nears the far wall of the scene's tank, 5a away.
-struct FrontPoint {
-    double T, Z;
-};
-constexpr FrontPoint kMartinMoyce[] = {{0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292}, {2.547, 2.995}, {3.345, 4.134}};
-
-// The front: the farthest particle's edge from the back wall (x = 0).
-double frontOf(const Fluids& f) {
-    double front = 0.0;
-    for (const Vec3& q : f.x) front = std::max(front, q.x());
-    return front + f.radius();
-}
-
+// The scene's surge front against Martin and Moyce's measurements (kMartinMoyce,
+// fluid_experiments.h), each at the step's T interpolated to the measured T.
 void expectFrontFollowsMartinAndMoyce(const char* scene) {
     PhysicsEngine e;
     load(e, scenes().find(scene));
@@ -409,10 +386,10 @@ void expectFrontFollowsMartinAndMoyce(const char* scene) {
         // Z at the measured T, interpolated between the steps around it.
         while (e.time() * scale < m.T) {
             previousT = e.time() * scale;
-            previousZ = frontOf(e.fluids()) / a;
+            previousZ = surgeFront(e.fluids()) / a;
             e.step();
         }
-        const double T = e.time() * scale, Z = frontOf(e.fluids()) / a;
+        const double T = e.time() * scale, Z = surgeFront(e.fluids()) / a;
         const double z = previousZ + (Z - previousZ) * (m.T - previousT) / (T - previousT);
         // 10 per cent: Martin and Moyce's repeated runs scatter by several per cent at a given T
         // (their release is not instantaneous), and the front of particles 0.1 a apart is known

@@ -7,7 +7,7 @@
 // One PBF step of h (PhysicsEngine::simulationTimestep() calls them in this order):
 //   predict()          v += h g; p = x + h v
 //   findNeighbours()   every particle's neighbours nearer than the smoothing length, once per step
-//   project()          iterations times: densities (fluidDensity()), multipliers
+//   project()          iterations times: densities (fluidDensity()) and multipliers
 //                      (densityConstraintLambda(), one-sided: only rho_i > rho0 pushes), moves
 //                      (densityCorrection()), then every particle pushed out of the rigid engine's
 //                      planes, boxes and spheres
@@ -101,7 +101,7 @@ public:
     void predict(double h, const Vec3& gravity);
     /// The neighbours of every predicted position p, kept for the rest of the step.
     void findNeighbours();
-    /// parameters().iterations times: every density, then every multiplier (from max(rho_i, rho0):
+    /// parameters().iterations times: every density and, from it, every multiplier (from max(rho_i, rho0):
     /// without particles beyond a free surface or a wall, the particles there read as less dense
     /// than they are, and the two-sided constraint would pull them in), then every move (all
     /// computed before any particle moves: each pair's moves are equal and opposite), then the
@@ -116,8 +116,10 @@ public:
     /// p = B ((rho / rho0)^7 - 1) with B = rho0 c^2 / 7 (0 where rho < rho0, a free surface's
     /// deficit), accelerations g - sum_j m (p_i / rho_i^2 + p_j / rho_j^2 + Pi_ij) grad W(x_i - x_j)
     /// with Monaghan's viscosity Pi_ij, v += hs a, x += hs v, the rigid bodies' push (a pushed
-    /// particle keeps no velocity into the body). p is left equal to x.
-    void stepSph(double h, const Vec3& gravity, const std::vector<Body>& bodies);
+    /// particle keeps no velocity into the body). p is left equal to x. substeps: 0 takes
+    /// sphSubsteps(h); a number >= 1 takes that many whatever the speed of sound says (the fluids
+    /// study's search for the largest stable step).
+    void stepSph(double h, const Vec3& gravity, const std::vector<Body>& bodies, int substeps = 0);
     /// Substeps of stepSph(): the fewest with h / n <= 0.4 smoothing length / speed of sound (CFL).
     int sphSubsteps(double h) const;
 

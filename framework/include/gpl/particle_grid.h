@@ -4,7 +4,8 @@
 // find() files the particles under their cells by a counting sort (count the particles of each
 // cell, sum the counts into each cell's first entry, then place each particle), so that the
 // particles of a cell lie together; each particle then tests only the particles of its own cell
-// and the 26 around it, since a particle nearer than h lies at most one cell away. The grid spans
+// and the 26 around it (their positions read from a copy sorted by cell, one after another in
+// memory), since a particle nearer than h lies at most one cell away. The grid spans
 // the particles' bounding box; where that box is so large for the particles' number that the cells
 // would outnumber them many times (a few particles flung far away), the cells grow wider than h,
 // which keeps the search exact and its memory bounded. The neighbours are kept as one list per
@@ -44,6 +45,7 @@ private:
     std::vector<std::uint32_t> cellOf_;     ///< per point: its cell
     std::vector<std::uint32_t> cellStart_;  ///< per cell + 1: its first entry in sorted_
     std::vector<std::uint32_t> sorted_;     ///< the points ordered by cell
+    std::vector<Vec3> sortedPoints_;        ///< their positions in the same order
     std::vector<std::uint32_t> start_;      ///< per point + 1: its first neighbour in list_
     std::vector<std::uint32_t> list_;       ///< every point's neighbours, one row after another
 };
