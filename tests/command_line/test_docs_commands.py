@@ -204,7 +204,7 @@ class Lab:
         self.usage = output([ROOT / "lab", "help"])
         lines = {}  # "run", "bench engine", ... -> the words of their synopsis lines
         for line in self.usage.splitlines():
-            match = re.match(r"^\s{2}\./lab (\w+)(?: (accuracy|contacts|engine|solvers|cloth|stages)\b)?(.*)$", line)
+            match = re.match(r"^\s{2}\./lab (\w+)(?: (accuracy|contacts|engine|solvers|cloth|fluids|stages)\b)?(.*)$", line)
             if match:
                 lines.setdefault(" ".join(filter(None, match.groups()[:2])), []).append(match.group(3).split())
         self.synopses = {}  # the same -> their options
