@@ -20,7 +20,7 @@ set grid
 if (have('fluids-iterations.dat') && have('fluids-timestep.dat')) {
     eval 'set terminal '.terminal(1100, 560)
     set output dir.'/fluids-density.'.ext
-    set multiplot layout 1,2 title "PBF: a column at rest, its mean density error after 1 s\n" \
+    set multiplot layout 1,2 title "PBF: a column released at rest, its mean density error at the end of the run\n" \
                                    ."{/*0.85 mean over the particles of max(ρ/ρ_0 - 1, 0); the rest lattice alone reads 0.98 %}"
     set bmargin 8
     set logscale y
@@ -59,10 +59,16 @@ if (have('fluids-stiffness.dat')) {
     set format y '10^{%L}'
     set xlabel 'speed of sound c (m/s)'
     set ylabel 'time step h (s)'
+    set autoscale xfix
+    set offsets graph 0.05, graph 0.05, 0, 0
+    set xtics (2.5, 5, 10, 20, 40, 80, 160, 320)
     data = dir.'/fluids-stiffness.dat'
     plot data using 1:2 with linespoints lt 1 title columnheader(2), \
          data using 1:3 with lines lt 7 title columnheader(3)
     unset logscale
+    set autoscale x
+    set offsets 0, 0, 0, 0
+    set xtics autofreq
 }
 
 # 3 and 4. The cost per particle and step against N, and each part beside the bare loop.
@@ -83,8 +89,12 @@ if (have('fluids-cost.dat') || have('fluids-limit.dat')) {
         set format y '%g'
         set ylabel 'ns per particle'
         set key maxrows 3
+        set autoscale xfix
+        set offsets graph 0.05, graph 0.05, 0, 0
         plot for [k = 2:6] data using 1:k with linespoints lt (k - 1) title columnheader(k)
         unset logscale
+        set autoscale x
+        set offsets 0, 0, 0, 0
     }
     if (have('fluids-limit.dat')) {
         data = dir.'/fluids-limit.dat'
@@ -98,9 +108,11 @@ if (have('fluids-cost.dat') || have('fluids-limit.dat')) {
         set style fill solid 0.85 border -1
         set boxwidth 0.8
         set xtics rotate by -20
+        set xrange [0.4:4.6]  # the header is record 0, the bars records 1 to 4
         plot data using 2:xtic(1) lc 2 fs pattern 3 notitle, \
              '' using 0:2:(sprintf('%.0f', $2)) with labels offset 0,0.8 notitle
         unset yrange
+        set autoscale x
         set xtics norotate
     }
     unset multiplot
