@@ -2,7 +2,7 @@
 # Included after the GPL_CORE_TESTS_ONLY return of tests/CMakeLists.txt, as the seeded mistakes are:
 # a core-tests build has neither.
 
-# ---- The solutions with one hook file written another way, each a hook directory ------------------
+# ---- The solutions with hook files written another way, in rounds, each a hook directory -----------
 file(GLOB GPL_ALTERNATIVE_SPECS CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/alternatives/*.json)
 set(gpl_alternative_inputs ${GPL_ALTERNATIVE_SPECS})
 foreach(file IN LISTS GPL_HOOK_FILES)
@@ -16,25 +16,29 @@ execute_process(
 if(NOT gpl_alternatives_result EQUAL 0)
   message(FATAL_ERROR "could not write the correct alternatives: ${gpl_alternatives_error}")
 endif()
-# One line per alternative: its name and the worksheet of the hook file it rewrites.
+# One line per round: its name, the earliest worksheet of its hook files and its alternatives.
 string(REPLACE "\n" ";" gpl_alternatives "${gpl_alternatives}")
 foreach(line IN LISTS gpl_alternatives)
   string(REPLACE " " ";" line "${line}")
-  list(GET line 0 alternative)
-  gpl_add_variant(alternative_${alternative} ${CMAKE_BINARY_DIR}/alternatives/${alternative} REUSE solutions)
-  set_target_properties(gpl-run-alternative_${alternative} PROPERTIES EXCLUDE_FROM_ALL ON)
-  gpl_add_hooks_server(alternative_${alternative})
+  list(GET line 0 round)
+  gpl_add_variant(alternatives_${round} ${CMAKE_BINARY_DIR}/alternatives/${round} REUSE solutions)
+  set_target_properties(gpl-run-alternatives_${round} PROPERTIES EXCLUDE_FROM_ALL ON)
+  gpl_add_hooks_server(alternatives_${round})
 endforeach()
 
-# ---- Grader self-checks of the alternatives: full marks on every test that can call the hook ---------
+# ---- Grader self-checks of the rounds: full marks on every test that can call their hooks -----------
 # A hook is called by the tests of its own worksheet and of later ones (their scenes and kernels build
-# on it), never by an earlier worksheet's.
+# on it), never by an earlier worksheet's. A round that loses points names its alternatives above the
+# table; the failing tests' hooks say which of them to look at.
 foreach(line IN LISTS gpl_alternatives)
   string(REPLACE " " ";" line "${line}")
-  list(GET line 0 alternative)
+  list(GET line 0 round)
   list(GET line 1 worksheet)
-  add_test(NAME grader.alternative.${alternative}
+  list(GET line 2 names)
+  string(REPLACE "," ", " names "${names}")
+  add_test(NAME grader.alternatives.${round}
            COMMAND ${grade} selfcheck --checker $<TARGET_FILE:gpl-checker>
-                   --hooks $<TARGET_FILE:gpl-hooks-alternative_${alternative}> --expect full --from-worksheet ${worksheet})
-  set_tests_properties(grader.alternative.${alternative} PROPERTIES ENVIRONMENT "${gpl_selfcheck_env}")
+                   --hooks $<TARGET_FILE:gpl-hooks-alternatives_${round}> --expect full --from-worksheet ${worksheet}
+                   --about "correct alternatives: ${names}")
+  set_tests_properties(grader.alternatives.${round} PROPERTIES ENVIRONMENT "${gpl_selfcheck_env}")
 endforeach()

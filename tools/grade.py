@@ -18,12 +18,13 @@ two pipes; the checker's report decides. Points, hints, Gradescope results.json 
   grade.py failure --json FILE --message TEXT
       writes a results.json with zero points that says why the grading could not run.
   grade.py selfcheck --checker CHECKER --hooks ENGINE (--expect full | --expect zero | --mutant NAME)
-                     [--worksheet N | --from-worksheet N]
-      the grader's own checks: the solutions (and each correct alternative, tests/alternatives/*.json)
+                     [--worksheet N | --from-worksheet N] [--about TEXT]
+      the grader's own checks: the solutions (and the correct alternatives, tests/alternatives/*.json)
       score full marks, the stubs zero, and each seeded mistake (tests/mutants/*.json) loses points in
       the test named for it, which fails on its own (graded on that test's worksheet unless
       --worksheet says otherwise). --from-worksheet N grades worksheet N and every later one: the
-      tests that can call a hook of worksheet N.
+      tests that can call a hook of worksheet N. --about TEXT is printed above the table (what the
+      engine graded is).
 
 Exit status: 0 full marks, 1 points lost, 2 the grading itself could not run (a one-line error).
 
@@ -285,6 +286,8 @@ def cmd_selfcheck(args):
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
     flagged = [r["name"] for r in results if r["output"].startswith(SANITIZER_MARK)]
+    if args.about:
+        print(args.about)
     print(table(results, f"self-check of {pathlib.Path(args.hooks).name}"))
     if flagged and args.expect in ("full", "zero"):
         print(f"WRONG: a sanitizer reported an error in {', '.join(flagged)}")
@@ -369,6 +372,7 @@ def main(argv):
     exp.add_argument("--mutant", metavar="NAME")
     s.add_argument("--from-worksheet", type=int, metavar="N",
                    help="with --expect: grade worksheet N and every later one (the tests that can call its hooks)")
+    s.add_argument("--about", default="", metavar="TEXT", help="printed above the table: what the engine graded is")
 
     b = sub.add_parser("prebuild")
     b.add_argument("--build-dir", required=True)

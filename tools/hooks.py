@@ -15,10 +15,11 @@ Commands:
   hooks.py write [--backup DIR]            regenerate assignments/ (changed files are copied to DIR first)
   hooks.py mutants OUTDIR                  write every seeded mistake of tests/mutants/*.json as a
                                            hook directory OUTDIR/NAME and print NAME per line
-  hooks.py alternatives OUTDIR             write every correct alternative of tests/alternatives/*.json
-                                           (its code in place of a file's solution blocks) as a hook
-                                           directory OUTDIR/NAME and print NAME and the worksheet of
-                                           that hook file per line
+  hooks.py alternatives OUTDIR             write the correct alternatives of tests/alternatives/*.json in rounds
+                                           (round k: the k-th alternative of each hook file, its code in
+                                           place of the file's solution blocks) as hook directories
+                                           OUTDIR/roundK, and print per line the round, the earliest
+                                           worksheet of its files and its alternatives' names
   hooks.py files                           print the hook file names (cmake/hook_files.txt)
 """
 import argparse
@@ -173,15 +174,29 @@ def write_mutants(outdir):
     return 0
 
 
+def alternative_rounds(alternatives):
+    """The alternatives in rounds: round k holds the k-th alternative of each hook file (in the order
+    of the specs), so that no round has two of one file. A round is one hook directory with all its
+    alternatives in place: each must score full marks beside the others as beside the reference."""
+    rounds = []
+    for alt in alternatives:
+        k = sum(1 for other in alternatives[:alternatives.index(alt)] if other["file"] == alt["file"])
+        if k == len(rounds):
+            rounds.append([])
+        rounds[k].append(alt)
+    return rounds
+
+
 def write_alternatives(outdir):
     alternatives = load_alternatives()
     for alt in alternatives:  # every entry checked before any is written
         alt["text"] = with_blocks((SOLUTIONS / alt["file"]).read_text(), alt["blocks"],
                                   f"alternative {alt['name']} of solutions/{alt['file']}")
         alt["worksheet"] = hook_worksheet(alt["file"])
-    for alt in alternatives:
-        _write_variant(pathlib.Path(outdir) / alt["name"], {alt["file"]: alt["text"]})
-        print(alt["name"], alt["worksheet"])
+    # One line per round: its name, the earliest worksheet of its hook files, its alternatives.
+    for number, members in enumerate(alternative_rounds(alternatives), 1):
+        _write_variant(pathlib.Path(outdir) / f"round{number}", {alt["file"]: alt["text"] for alt in members})
+        print(f"round{number}", min(alt["worksheet"] for alt in members), ",".join(alt["name"] for alt in members))
     return 0
 
 

@@ -820,7 +820,7 @@ class Hooks(unittest.TestCase):
             for change in m["changes"]:
                 self.assertNotEqual(change["from"], change["to"], m["name"])
 
-    def test_alternatives_replace_one_file_with_code_of_their_own(self):
+    def test_alternatives_replace_their_files_with_code_of_their_own_in_rounds(self):
         # Compared without comments and spacing: a reworded or reindented copy of the reference is no
         # alternative.
         def bare(code):
@@ -828,22 +828,38 @@ class Hooks(unittest.TestCase):
 
         alternatives = hooks.load_alternatives()
         self.assertTrue(alternatives)
+        by_name = {alt["name"]: alt for alt in alternatives}
+        for alt in alternatives:
+            self.assertIn(alt["file"], hooks.hook_files(), alt["name"])
+            self.assertTrue(alt["why"].strip(), alt["name"])
+            reference = hooks.solution_blocks((ROOT / "solutions" / alt["file"]).read_text())
+            self.assertEqual(len(alt["blocks"]), len(reference), alt["name"])
+            for mine, theirs in zip(alt["blocks"], reference):
+                self.assertNotEqual(bare(mine), bare(theirs), f"{alt['name']}: the reference's code")
         with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()) as printed:
             hooks.write_alternatives(tmp)
-            for alt in alternatives:
-                self.assertIn(alt["file"], hooks.hook_files(), alt["name"])
-                self.assertTrue(alt["why"].strip(), alt["name"])
-                reference = hooks.solution_blocks((ROOT / "solutions" / alt["file"]).read_text())
-                self.assertEqual(len(alt["blocks"]), len(reference), alt["name"])
-                for mine, theirs in zip(alt["blocks"], reference):
-                    self.assertNotEqual(bare(mine), bare(theirs), f"{alt['name']}: the reference's code")
-                for name in hooks.hook_files():
-                    text = (pathlib.Path(tmp) / alt["name"] / name).read_text()
-                    self.assertEqual(text == (ROOT / "solutions" / name).read_text(), name != alt["file"],
-                                     f"{alt['name']}: {name}")
-                    self.assertNotIn(hooks.BEGIN, text if name == alt["file"] else "", alt["name"])
-        worksheets = {alt["name"]: hooks.hook_worksheet(alt["file"]) for alt in alternatives}
-        self.assertEqual(printed.getvalue().splitlines(), [f"{name} {n}" for name, n in worksheets.items()])
+            self.check_rounds(tmp, printed.getvalue(), alternatives, by_name)
+
+    def check_rounds(self, tmp, printed, alternatives, by_name):
+        lines = [line.split(" ") for line in printed.splitlines()]
+        rounds = {name: members.split(",") for name, _, members in lines}
+        # Every alternative in exactly one round, as many rounds as the most alternatives of one file.
+        self.assertEqual(sorted(n for members in rounds.values() for n in members), sorted(by_name))
+        most = max(sum(a["file"] == alt["file"] for a in alternatives) for alt in alternatives)
+        self.assertEqual(list(rounds), [f"round{k}" for k in range(1, most + 1)])
+        for name, worksheet, members in lines:
+            chosen = {by_name[n]["file"]: by_name[n] for n in members.split(",")}
+            self.assertEqual(len(chosen), len(members.split(",")), f"{name}: two alternatives of one file")
+            self.assertEqual(int(worksheet), min(hooks.hook_worksheet(f) for f in chosen), name)
+            # The round's files carry their alternatives' code, every other file the reference's.
+            for file in hooks.hook_files():
+                text = (pathlib.Path(tmp) / name / file).read_text()
+                reference = (ROOT / "solutions" / file).read_text()
+                if file in chosen:
+                    self.assertEqual(text, hooks.with_blocks(reference, chosen[file]["blocks"]), f"{name}: {file}")
+                    self.assertNotIn(hooks.BEGIN, text, f"{name}: {file}")
+                else:
+                    self.assertEqual(text, reference, f"{name}: {file}")
 
     def test_a_malformed_alternative_is_a_one_line_error(self):
         good = {"name": "x", "why": "another way", "file": "integrator.cpp", "code": "    return;\n"}
@@ -870,7 +886,7 @@ class Hooks(unittest.TestCase):
                 self.assertFalse((pathlib.Path(tmp) / "out").exists(), "nothing written for a malformed set")
 
     def test_selfcheck_from_a_worksheet_on_says_what_it_cannot_do_in_one_line(self):
-        # What grader.alternative.* runs: the tests of the hook's worksheet and the later ones.
+        # What grader.alternatives.* runs: the tests of the round's earliest worksheet and the later ones.
         for extra, says in [(["--expect", "full", "--worksheet", "5"], "--from-worksheet goes with --expect"),
                             (["--mutant", "x"], "--from-worksheet goes with --expect"),
                             (["--expect", "full"], "no graded tests for worksheet 10 or later; the worksheets with "
