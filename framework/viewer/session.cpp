@@ -310,6 +310,12 @@ void Session::restartGhost() {
         for (std::size_t i = 0; i < kStageCount; ++i) {
             if (!engine_.stageEnabled(static_cast<Stage>(i))) settings.disabledStages.push_back(static_cast<int>(i));
         }
+        // The ghost shows and compares bodies and soft particles only; a fluid pushes neither (the
+        // rigid bodies push it, one way), so the reference steps none.
+        for (const Stage fluid : {Stage::FluidPredict, Stage::FluidNeighbours, Stage::FluidProject,
+                                  Stage::FluidVelocities, Stage::FluidSph}) {
+            settings.disabledStages.push_back(static_cast<int>(fluid));
+        }
         for (const Body& b : engine_.bodies()) settings.restitution.push_back(b.restitution);
         reference_->load(scene_->name, settings);
         takeGhostState();
