@@ -101,7 +101,8 @@ void iterationsPart(Output& output, const Plan& plan) {
     csv << "iterations,h_s,mean_density_error,largest_density_error,finite,ms_per_step\n";
     auto dat = output.open("fluids-iterations.dat");
     dat << "iterations";
-    for (int perSecond : plan.stepsPerSecond) dat << " \"h = 1/" << perSecond << " s\" \"largest 1/" << perSecond << "\"";
+    for (int perSecond : plan.stepsPerSecond)
+        dat << " \"h = 1/" << perSecond << " s\" \"largest 1/" << perSecond << "\"";
     dat << '\n';
     // The same runs by time step, a row per h (the plot's second panel).
     std::vector<std::vector<double>> byStep(plan.stepsPerSecond.size());
@@ -134,13 +135,14 @@ void iterationsPart(Output& output, const Plan& plan) {
 void stiffnessPart(Output& output, const Plan& plan) {
     const auto& c = plan.column;
     const gpl::FluidParameters water = gpl::study::studyWater(c.spacing);
-    std::cout << "\n2. WCSPH's largest stable time step: the same column (" << c.nx << " x " << c.ny << " x " << c.nz
-              << " particles, smoothing length " << water.smoothingLength << " m) at rest, stepped by one substep of h "
-              << "at a time for " << plan.stableSeconds << " s; stable: every particle finite and none faster than ten "
-              << "times a fall of the column's height, 10 sqrt(2 g H); the largest stable h bracketed from the CFL bound by "
-              << "doubling or halving and bisected on log h to 2 %; Tait's stiffness B = rho0 c^2 / 7; CFL bound: "
-              << "h <= " << gpl::study::kCourant << " h_smooth / c (what stepSph()'s substeps take); lambda: the "
-              << "largest stable h as a Courant number, h c / h_smooth\n";
+    std::cout
+        << "\n2. WCSPH's largest stable time step: the same column (" << c.nx << " x " << c.ny << " x " << c.nz
+        << " particles, smoothing length " << water.smoothingLength << " m) at rest, stepped by one substep of h "
+        << "at a time for " << plan.stableSeconds << " s; stable: every particle finite and none faster than ten "
+        << "times a fall of the column's height, 10 sqrt(2 g H); the largest stable h bracketed from the CFL bound by "
+        << "doubling or halving and bisected on log h to 2 %; Tait's stiffness B = rho0 c^2 / 7; CFL bound: "
+        << "h <= " << gpl::study::kCourant << " h_smooth / c (what stepSph()'s substeps take); lambda: the "
+        << "largest stable h as a Courant number, h c / h_smooth\n";
     const std::vector<std::size_t> widths{10, 12, 20, 14, 12, 9, 12};
     row({"c m/s", "B Pa", "largest stable h s", "CFL bound s", "stable/CFL", "lambda", "fails by"}, widths);
     auto csv = output.open("fluids-stiffness.csv");
@@ -232,9 +234,10 @@ void limitPart(Output& output, const Plan& plan) {
     line("PBF iteration-equivalent (step / 4)", c.pbfIterationNs());
     line("PBF project, one iteration", c.pbfProjectNs / c.iterations);
     line("WCSPH substep (iteration-equivalent)", c.sphSubstepNs);
-    for (const auto& [name, ns] : std::vector<std::pair<std::string, double>>{
-             {"bare loop", c.bareNs}, {"search", c.searchNs}, {"PBF iteration", c.pbfIterationNs()},
-             {"WCSPH substep", c.sphSubstepNs}}) {
+    for (const auto& [name, ns] : std::vector<std::pair<std::string, double>>{{"bare loop", c.bareNs},
+                                                                              {"search", c.searchNs},
+                                                                              {"PBF iteration", c.pbfIterationNs()},
+                                                                              {"WCSPH substep", c.sphSubstepNs}}) {
         dat << '"' << name << "\" " << ns / p << '\n';
     }
     const double pbfRatio = c.pbfIterationNs() / c.bareNs, sphRatio = c.sphSubstepNs / c.bareNs;
@@ -289,14 +292,13 @@ int main(int argc, char** argv) {
     app.add_option("--out", out, "folder for the CSV files and the plots' data (default build/fluids)");
     app.add_option("--parts", partList,
                    "parts to run, separated by commas: iterations, stiffness, cost, limit, dambreak (default all)")
-        ->check(gpl::cli::expects("iterations, stiffness, cost, limit or dambreak, separated by commas",
-                                  [](const std::string& text) {
-                                      const std::vector<std::string> names = split(text);
-                                      return !names.empty() &&
-                                             std::all_of(names.begin(), names.end(), [](const std::string& n) {
-                                                 return std::find(kParts.begin(), kParts.end(), n) != kParts.end();
-                                             });
-                                  }));
+        ->check(gpl::cli::expects(
+            "iterations, stiffness, cost, limit or dambreak, separated by commas", [](const std::string& text) {
+                const std::vector<std::string> names = split(text);
+                return !names.empty() && std::all_of(names.begin(), names.end(), [](const std::string& n) {
+                    return std::find(kParts.begin(), kParts.end(), n) != kParts.end();
+                });
+            }));
     app.add_option("--sizes", sizes, "particles of the cost part's blocks (default 10000 20000 50000 100000 200000)")
         ->check(gpl::cli::wholeNumber(8, 2000000));
     app.add_option("--runs", plan.runs, "timed steps of the limit part; the median is kept (default 5)")

@@ -106,7 +106,7 @@ double bareNeighbourSum(const ParticleGrid& grid, const std::vector<Vec3>& x, do
 /// its surge front Z = z / a against T = t sqrt(2 g / a) at every step, and Z interpolated to each
 /// of Martin and Moyce's T (kMartinMoyce, fluid_experiments.h).
 struct FrontRun {
-    std::vector<double> T, Z;  ///< every step
+    std::vector<double> T, Z;        ///< every step
     std::vector<double> atMeasured;  ///< Z at each kMartinMoyce T
     bool finite = true;
 };

@@ -4,6 +4,7 @@
 #include "fluids_study.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <array>
 #include <cmath>
@@ -12,8 +13,6 @@
 #include <fstream>
 #include <sstream>
 #include <string>
-
-#include <sys/wait.h>
 
 #include "gpl/fluid_experiments.h"
 
@@ -120,17 +119,19 @@ TEST(FluidsStudyProgram, QuickRunWritesEveryFileAndColumn) {
     std::filesystem::remove_all(dir);
     const Ran ran = runProgram("--quick --out " + dir.string());
     ASSERT_EQ(ran.status, 0) << ran.output;
-    for (const char* part : {"1. PBF's density error", "2. WCSPH's largest stable", "3. cost against N",
-                             "4. the limit", "5. the dam break", "fitted exponent", "ratio to the bare loop"}) {
+    for (const char* part : {"1. PBF's density error", "2. WCSPH's largest stable", "3. cost against N", "4. the limit",
+                             "5. the dam break", "fitted exponent", "ratio to the bare loop"}) {
         EXPECT_NE(ran.output.find(part), std::string::npos) << part << "\n" << ran.output;
     }
     EXPECT_EQ(ran.output.find("blew up"), std::string::npos) << ran.output;
     const std::pair<const char*, const char*> csvs[] = {
         {"fluids-iterations.csv", "iterations,h_s,mean_density_error,largest_density_error,finite,ms_per_step"},
-        {"fluids-stiffness.csv", "sound_speed_m_s,stiffness_pa,largest_stable_h_s,cfl_bound_s,courant_number,fails_by,runs"},
-        {"fluids-cost.csv", "particles,neighbours_per_particle,iterations,pbf_predict_ns,pbf_neighbours_ns,"
-                            "pbf_project_ns,pbf_velocities_ns,pbf_step_ns,sph_substep_ns,sph_substeps,sph_step_ns,"
-                            "search_ns,bare_ns"},
+        {"fluids-stiffness.csv",
+         "sound_speed_m_s,stiffness_pa,largest_stable_h_s,cfl_bound_s,courant_number,fails_by,runs"},
+        {"fluids-cost.csv",
+         "particles,neighbours_per_particle,iterations,pbf_predict_ns,pbf_neighbours_ns,"
+         "pbf_project_ns,pbf_velocities_ns,pbf_step_ns,sph_substep_ns,sph_substeps,sph_step_ns,"
+         "search_ns,bare_ns"},
         {"fluids-exponent.csv", "method,exponent"},
         {"fluids-limit.csv", "part,ns_per_particle,ms,ratio_to_bare"},
         {"fluids-dambreak.csv", "T,Z_measured,Z_pbf,Z_wcsph"}};
@@ -139,9 +140,9 @@ TEST(FluidsStudyProgram, QuickRunWritesEveryFileAndColumn) {
         EXPECT_GE(lines(dir / name), 3) << name << ": a header and rows";
     }
     // The plots' data: a header and a row per point.
-    for (const char* name : {"fluids-iterations.dat", "fluids-timestep.dat", "fluids-stiffness.dat", "fluids-cost.dat",
-                             "fluids-limit.dat", "fluids-dambreak-measured.dat", "fluids-dambreak-pbf.dat",
-                             "fluids-dambreak-wcsph.dat"}) {
+    for (const char* name :
+         {"fluids-iterations.dat", "fluids-timestep.dat", "fluids-stiffness.dat", "fluids-cost.dat", "fluids-limit.dat",
+          "fluids-dambreak-measured.dat", "fluids-dambreak-pbf.dat", "fluids-dambreak-wcsph.dat"}) {
         EXPECT_GE(lines(dir / name), 3) << name;
     }
     // The quick plan's two iteration counts by its two steps, and the dam break's first measured point.
