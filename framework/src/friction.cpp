@@ -5,9 +5,9 @@
 //   2. measures each point's approach speed (what restitution answers) before anything changes it,
 //      and prepares the point once with prepareContactPoint(): lever arms, tangents, inverse
 //      effective masses and the normal velocity to reach, which the sweeps only read,
-//   3. warm starts: a point of the same pair of bodies as one of last step's, within
-//      kWarmStartDistance of it, starts from that point's sums (the friction sum turned into the new
-//      tangent plane), applied once with applyWarmStart(),
+//   3. warm starts: a point that continues one of last step's of the same pair of bodies starts
+//      from that point's sums (ContactMemory::match(): one to one, by where the bodies carry last
+//      step's points, within kWarmStartDistance), applied once with applyWarmStart(),
 //   4. sweeps contactIterations() times over every contact: applyNormalImpulse() at each of its
 //      points (twice over when it has several: a face's points share its load), then
 //      applyFrictionImpulse() at each against the normal sum just updated. A small stage runs the
@@ -41,40 +41,104 @@
 #include "gpl/response.h"
 
 namespace gpl {
-namespace {
 
-// Last step's entry of the pair (a, b), or nullptr: the first of a's entries with this b (they are
-// sorted by b, and a plane has one per body on it: a search, not a walk through them all).
-const ContactMemory::Entry* remembered(const ContactMemory& memory, std::size_t a, std::size_t b) {
-    if (a + 1 >= memory.firstOf.size()) return nullptr;
-    const auto begin = memory.entries.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[a]);
-    const auto end = memory.entries.begin() + static_cast<std::ptrdiff_t>(memory.firstOf[a + 1]);
-    const auto found = std::lower_bound(begin, end, b, [](const ContactMemory::Entry& e, std::size_t i) { return e.b < i; });
-    return found != end && found->b == b ? &*found : nullptr;
+const ContactMemory::Entry* ContactMemory::find(std::size_t a, std::size_t b, bool& flipped) const {
+    // The first of a's entries with this b (they are sorted by b, and a plane has one per body on
+    // it: a search, not a walk through them all).
+    const auto first = [this](std::size_t i, std::size_t j) -> const Entry* {
+        if (i + 1 >= firstOf.size()) return nullptr;
+        const auto begin = entries.begin() + static_cast<std::ptrdiff_t>(firstOf[i]);
+        const auto end = entries.begin() + static_cast<std::ptrdiff_t>(firstOf[i + 1]);
+        const auto found = std::lower_bound(begin, end, j, [](const Entry& e, std::size_t k) { return e.b < k; });
+        return found != end && found->b == j ? &*found : nullptr;
+    };
+    flipped = false;
+    if (const Entry* e = first(a, b)) return e;
+    flipped = true;
+    return first(b, a);
 }
 
-// Last step's sums of the point nearest to p (within kWarmStartDistance), with the friction sum
-// projected onto the plane perpendicular to n; zero sums when there is none.
-PointImpulse warmSums(const ContactMemory& memory, const ContactMemory::Entry* old, const Vec3& p, const Vec3& n) {
-    PointImpulse s;
-    if (old == nullptr) return s;
-    double best = kWarmStartDistance * kWarmStartDistance;
-    std::size_t found = SIZE_MAX;
-    for (std::size_t k = old->first; k < old->first + old->pointCount; ++k) {
-        const double d = (memory.points[k] - p).squaredNorm();
-        if (d <= best) {
-            best = d;
-            found = k;
-        }
+Vec3 ContactMemory::pointNow(std::uint32_t k, const Body& a, const Body& b) const {
+    return 0.5 * ((a.position + a.orientation * onA[k]) + (b.position + b.orientation * onB[k]));
+}
+
+ContactMemory::Pairing ContactMemory::pairUp(const Entry& old, bool flipped, const Contact& contact, const Body& a,
+                                             const Body& b) const {
+    // Every pair of a point now and a point then within kWarmStartDistance, the nearest first; a
+    // pair is taken when neither of its points is taken yet. Ties go to the lower indices, so the
+    // answer depends on nothing but the points.
+    const int count = contact.pointCount;
+    const std::uint32_t was = old.pointCount;
+    std::array<std::array<double, kMaxContactPoints>, kMaxContactPoints> d{};  // squared, m^2
+    for (std::uint32_t q = 0; q < was; ++q) {
+        const Vec3 then = flipped ? pointNow(old.first + q, b, a) : pointNow(old.first + q, a, b);
+        for (int k = 0; k < count; ++k) d[k][q] = (contact.points[k] - then).squaredNorm();
     }
-    if (found == SIZE_MAX) return s;
-    s.normal = memory.sums[found].normal;
-    const Vec3& t = memory.sums[found].tangent;
-    s.tangent = t - n.dot(t) * n;
-    return s;
+    Pairing pairing;
+    pairing.fill(kNone);
+    std::array<bool, kMaxContactPoints> taken{};
+    for (int round = 0; round < count; ++round) {
+        double best = kWarmStartDistance * kWarmStartDistance;
+        int bestK = -1;
+        std::uint32_t bestQ = 0;
+        for (int k = 0; k < count; ++k) {
+            if (pairing[k] != kNone) continue;
+            for (std::uint32_t q = 0; q < was; ++q) {
+                if (!taken[q] && d[k][q] <= best && (bestK < 0 || d[k][q] < best)) {
+                    best = d[k][q];
+                    bestK = k;
+                    bestQ = q;
+                }
+            }
+        }
+        if (bestK < 0) break;
+        pairing[bestK] = old.first + bestQ;
+        taken[bestQ] = true;
+    }
+    return pairing;
 }
 
-}  // namespace
+void ContactMemory::match(const Entry* old, bool flipped, const Contact& contact, const Body& a, const Body& b,
+                          PointImpulse* sums) const {
+    const int count = contact.pointCount;
+    for (int k = 0; k < count; ++k) {
+        sums[k].normal = 0.0;
+        sums[k].tangent = Vec3::Zero();
+    }
+    if (old == nullptr) return;
+    const Pairing pairing = pairUp(*old, flipped, contact, a, b);
+    // The sums of the points continued, and of those that no point continues.
+    std::array<bool, kMaxContactPoints> continued{};
+    double kept = 0.0;  // N s
+    for (int k = 0; k < count; ++k) {
+        if (pairing[k] == kNone) continue;
+        sums[k].normal = this->sums[pairing[k]].normal;
+        sums[k].tangent = this->sums[pairing[k]].tangent;
+        continued[pairing[k] - old->first] = true;
+        kept += sums[k].normal;
+    }
+    double lostNormal = 0.0;
+    Vec3 lostTangent = Vec3::Zero();
+    for (std::uint32_t q = 0; q < old->pointCount; ++q) {
+        if (continued[q]) continue;
+        lostNormal += this->sums[old->first + q].normal;
+        lostTangent += this->sums[old->first + q].tangent;
+    }
+    // Handed on in proportion to the normal sums continued; then turned into this step's tangent
+    // plane (the friction sums of a pair in the other order reversed, as its normal is).
+    const bool handOn = kept > 0.0 && (lostNormal > 0.0 || !lostTangent.isZero(0.0));
+    const Vec3& n = contact.normal;
+    for (int k = 0; k < count; ++k) {
+        if (pairing[k] == kNone) continue;
+        if (handOn) {
+            const double share = sums[k].normal / kept;
+            sums[k].normal += share * lostNormal;
+            sums[k].tangent += share * lostTangent;
+        }
+        const Vec3 t = flipped ? Vec3(-sums[k].tangent) : sums[k].tangent;
+        sums[k].tangent = t - n.dot(t) * n;
+    }
+}
 
 const char* contactSolverName(ContactSolver solver) {
     switch (solver) {
@@ -105,9 +169,12 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     // The points' sums: contact c's points start at first_[c]; last step's entry of each pair.
     first_.assign(contacts.size() + 1, 0);
     remembered_.resize(contacts.size());
+    flipped_.resize(contacts.size());
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         first_[c + 1] = first_[c] + contacts[c].pointCount;
-        remembered_[c] = remembered(memory_, contacts[c].a, contacts[c].b);
+        bool flipped = false;
+        remembered_[c] = memory_.find(contacts[c].a, contacts[c].b, flipped);
+        flipped_[c] = flipped;
     }
     sums_.assign(first_.back(), PointImpulse{});
     // Each point's overlap now, along the normal through it (the contact's depth where that line
@@ -201,24 +268,42 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
         const Vec3 apart = pb - pa;
         if ((apart - n.dot(apart) * n).squaredNorm() > kKeepSlide * kKeepSlide) return std::nullopt;
         const Vec3 p = 0.5 * (pa + pb);
-        const double depth = depthAlong(a, b, p, n, kKeepGap);
+        if (depthAlong(a, b, p, n, kKeepGap) >= -kKeepGap) return p;
+        // A box's corner lies on its edges, where the line along the normal grazes the box: it
+        // misses it (NaN) or leaves it through a side. The line a hair inwards, towards the
+        // bodies' centres, answers for the corner.
+        Vec3 centre = Vec3::Zero();
+        int solids = 0;
+        for (const Body* body : {&a, &b}) {
+            if (body->shape == Shape::Plane) continue;
+            centre += body->position;
+            ++solids;
+        }
+        Vec3 inwards = centre / solids - p;
+        inwards -= n.dot(inwards) * n;
+        if (inwards.norm() <= kKeepSlide) return std::nullopt;
+        const double depth = depthAlong(a, b, p + kKeepSlide * inwards.normalized(), n, kKeepGap);
         if (!(depth >= -kKeepGap)) return std::nullopt;  // apart, or the line misses a body (NaN)
         return p;
     };
     const std::size_t found = contacts.size();
     for (std::size_t c = 0; c < found; ++c) {
         Contact& con = contacts[c];
-        const ContactMemory::Entry* old = remembered(memory_, con.a, con.b);
+        bool flipped = false;
+        const ContactMemory::Entry* old = memory_.find(con.a, con.b, flipped);
         if (old == nullptr) continue;
         old->found = true;
-        const int reported = con.pointCount;
-        for (std::uint32_t k = old->first; k < old->first + old->pointCount && con.pointCount < kMaxContactPoints; ++k) {
-            bool near = false;  // a point of this step is where it was (a sphere's always is)
-            for (int q = 0; q < reported && !near; ++q) {
-                near = (con.points[q] - memory_.points[k]).squaredNorm() <= kWarmStartDistance * kWarmStartDistance;
-            }
-            if (near) continue;
-            if (const std::optional<Vec3> p = touching(*old, k, con.normal)) con.points[con.pointCount++] = *p;
+        if (con.pointCount >= kMaxContactPoints) continue;  // no room for a point kept
+        // Last step's points that no point of this step continues.
+        std::array<bool, kMaxContactPoints> continued{};
+        const ContactMemory::Pairing pairing = memory_.pairUp(*old, flipped, con, bodies[con.a], bodies[con.b]);
+        for (int k = 0; k < con.pointCount; ++k) {
+            if (pairing[k] != ContactMemory::kNone) continued[pairing[k] - old->first] = true;
+        }
+        const Vec3 n = flipped ? Vec3(-con.normal) : con.normal;  // in the entry's order
+        for (std::uint32_t q = 0; q < old->pointCount && con.pointCount < kMaxContactPoints; ++q) {
+            if (continued[q]) continue;
+            if (const std::optional<Vec3> p = touching(*old, old->first + q, n)) con.points[con.pointCount++] = *p;
         }
     }
     // Pairs whose contact the kernels no longer report: their points that still touch.
@@ -245,10 +330,8 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
 void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b,
                           PointImpulse* sums) const {
     const Contact& con = contacts[c];
-    for (int k = 0; k < con.pointCount; ++k) {
-        sums[k] = warmSums(memory_, remembered_[c], con.points[k], con.normal);
-        sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
-    }
+    memory_.match(remembered_[c], flipped_[c], con, a, b, sums);
+    for (int k = 0; k < con.pointCount; ++k) sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
 }
 
 void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps) {

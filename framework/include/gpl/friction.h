@@ -35,8 +35,8 @@ namespace gpl {
 /// jitter. Five such steps' worth; a ball dropped from 1.3 cm or more still bounces.
 constexpr double kRestingSpeed = 0.5;
 
-/// Greatest distance (m) between a contact point of this step and one of last step's (same pair of
-/// bodies) for last step's impulses to warm start it.
+/// Greatest distance (m) between a contact point of this step and where the bodies carry one of
+/// last step's (same pair of bodies) for last step's impulses to warm start it.
 constexpr double kWarmStartDistance = 0.05;
 
 /// Gap (m) up to which a contact point of last step stays in its pair's contact when the collision
@@ -195,6 +195,11 @@ void sweepContacts(const std::vector<Contact>& contacts, const std::vector<std::
 /// pair, and its points and their sums in arrays of their own: a sphere's contact has one point of
 /// kMaxContactPoints, and the stage reads the pairs (keeping resting contacts, finding last step's
 /// pair) far more often than their points.
+///
+/// A point of this step finds last step's by where the bodies carry it, not by the order or the
+/// number of points the collision kernels return (see match()): the clippers of worksheet 5 give
+/// their points no names, and may return a face's corners in another order, one fewer or one
+/// more, with the two boxes' roles swapped, or the pair in the other order (normal reversed).
 struct ContactMemory {
     struct Entry {
         std::size_t a = 0, b = 0;  ///< the pair's body indices
@@ -209,6 +214,11 @@ struct ContactMemory {
         double normal = 0.0;
         Vec3 tangent = Vec3::Zero();
     };
+    /// Per point of a contact of this step: the point of last step's entry it continues (an index
+    /// into points and sums), or kNone.
+    using Pairing = std::array<std::uint32_t, kMaxContactPoints>;
+    static constexpr std::uint32_t kNone = UINT32_MAX;
+
     std::vector<Entry> entries;  ///< sorted by (a, b)
     std::vector<Vec3> points;    ///< the entries' points (m, world frame), entry by entry
     std::vector<Sums> sums;      ///< and their sums
@@ -217,6 +227,34 @@ struct ContactMemory {
     std::vector<Vec3> onA, onB;
     /// The entries of pairs whose first body is a: [firstOf[a], firstOf[a + 1]).
     std::vector<std::size_t> firstOf;
+
+    /// Last step's entry of the pair of bodies a and b, in either order (`flipped` says it was
+    /// (b, a): its normal, its friction sums and its roles of a and b are reversed), or nullptr.
+    const Entry* find(std::size_t a, std::size_t b, bool& flipped) const;
+    /// Where last step's point k (an index into points) is now: the midpoint of the material points
+    /// of its two bodies that met there, placed with the bodies as they are (a and b in the order
+    /// of the point's entry).
+    Vec3 pointNow(std::uint32_t k, const Body& a, const Body& b) const;
+    /// Which of last step's points of `old` (found for `contact` with find()) each point of the
+    /// contact continues; a and b are the contact's bodies (its order). One to one: each point of
+    /// last step goes to at most one point of this step, the nearest pairs first, none farther than
+    /// kWarmStartDistance from where the bodies carry it (pointNow()).
+    Pairing pairUp(const Entry& old, bool flipped, const Contact& contact, const Body& a, const Body& b) const;
+    /// The sums that the contact's points start from (sums[0 .. pointCount)), their approach left
+    /// as it is: match()'s answer for a contact of a pair last step had (old from find(), else
+    /// nullptr: every sum zero).
+    ///
+    /// A point paired with one of last step's (pairUp()) takes its sums, the friction sum turned
+    /// into this step's tangent plane (and reversed with the pair's order). A point that last step
+    /// did not have starts from zero, and its neighbours keep theirs. A point of last step that no
+    /// point continues hands its sums to the points that continue others, in proportion to their
+    /// normal sums: the contact's total normal impulse (what it carries of the weight above it)
+    /// and its total friction impulse are kept when the kernels return fewer points, or others,
+    /// and a face that loses a corner does not drop that corner's load for a step. The moments
+    /// of the loads change; the sweeps set them right.
+    void match(const Entry* old, bool flipped, const Contact& contact, const Body& a, const Body& b,
+               PointImpulse* sums) const;
+
     void clear() {
         entries.clear();
         points.clear();
@@ -238,6 +276,8 @@ public:
               SecondThread* second, ContactSolver solver = ContactSolver::SequentialImpulses);
     /// Forgets last step's sums (they name bodies by index: after bodies are removed or restored).
     void forget() { memory_.clear(); }
+    /// What the stage keeps for the next step: this step's points and their sums.
+    const ContactMemory& memory() const { return memory_; }
 
 private:
     ContactMemory memory_;                   ///< last step's sums, for warm starting
@@ -248,6 +288,7 @@ private:
     std::vector<ContactPoint> points_;       ///< per contact point: prepared (a small stage's sweeps)
     std::vector<double> depths_;             ///< per contact point: its overlap (m)
     std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
+    std::vector<char> flipped_;              ///< per contact: that entry has the pair in the other order
     ContactSweeps sweeps_;                   ///< the sweeps of a large stage, in halves
     SplitImpulses split_;                    ///< the position correction
     SoftStep soft_;                          ///< the soft step solver
@@ -255,9 +296,9 @@ private:
     std::vector<std::size_t> order_, placeAt_;  ///< keep()'s buffers: the contacts sorted by pair
 
     /// Adds to the step's contacts the points of last step that the kernels no longer report and
-    /// that still touch: within kKeepGap of touching, slid less than kKeepSlide, not within
-    /// kWarmStartDistance of a point of this step, up to kMaxContactPoints a contact; and a contact
-    /// of such points for a pair the kernels report no more.
+    /// that still touch: within kKeepGap of touching, slid less than kKeepSlide, continued by no
+    /// point of this step (ContactMemory::pairUp()), up to kMaxContactPoints a contact; and a
+    /// contact of such points for a pair the kernels report no more.
     void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts);
     /// The first pass (start, prepare, warm start) and the sweeps of a small stage: the plain loop
     /// (see step()).
