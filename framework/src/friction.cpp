@@ -270,7 +270,7 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
         const Vec3 p = 0.5 * (pa + pb);
         if (depthAlong(a, b, p, n, kKeepGap) >= -kKeepGap) return p;
         // A box's corner lies on its edges, where the line along the normal grazes the box: it
-        // misses it (NaN) or leaves it through a side. The line a hair inwards, towards the
+        // misses it (NaN) or leaves it through a side. The line kKeepSlide inwards, towards the
         // bodies' centres, answers for the corner.
         Vec3 centre = Vec3::Zero();
         int solids = 0;
