@@ -23,7 +23,9 @@ using gpl::study::ClothMethod;
 using gpl::study::fixed;
 using gpl::study::Output;
 using gpl::study::pad;
+using gpl::study::row;
 using gpl::study::sci;
+using gpl::study::split;
 
 // The hanging cloth of the stretch sweeps: small enough that 64 iterations of XPBD converge.
 constexpr int kHangingN = 12;
@@ -41,20 +43,6 @@ const std::vector<int> kFlagIterations{4, 16};
 constexpr double kTarget = 0.5;
 
 const std::vector<std::string> kParts{"stretch", "cost", "flag", "bullet"};
-
-void row(const std::vector<std::string>& cells, const std::vector<std::size_t>& widths) {
-    for (std::size_t c = 0; c < cells.size(); ++c) std::cout << pad(cells[c], widths[c]);
-    std::cout << std::endl;
-}
-
-std::vector<std::string> split(const std::string& list) {
-    std::vector<std::string> out;
-    std::stringstream in(list);
-    for (std::string item; std::getline(in, item, ',');) {
-        if (!item.empty()) out.push_back(item);
-    }
-    return out;
-}
 
 std::string stretchCell(bool finite, double largest, double mean) {
     return finite ? sci(largest) + " / " + sci(mean) : "blew up";

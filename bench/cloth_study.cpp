@@ -198,40 +198,13 @@ std::string flagUnstable(const Flag& flag, const ClothMethod& m, double h, int i
 
 StableStep largestStableStep(const Flag& flag, const ClothMethod& m, int iterations, const Stability& s, double start,
                              double low, double high, double precision) {
-    // Bracket from `start`: double h while stable, halve it while not; then bisect on log h.
     StableStep out;
-    double stable = 0.0, unstable = 0.0;
     const auto stableAt = [&](double h) {
         const std::string why = flagUnstable(flag, m, h, iterations, s);
         if (!why.empty()) out.failure = why;
         return why.empty();
     };
-    for (double h = start;;) {
-        if (stableAt(h)) {
-            stable = h;
-            if (unstable > 0.0) break;
-            if (h >= high) {
-                out.h = std::numeric_limits<double>::infinity();
-                return out;
-            }
-            h = std::min(2.0 * h, high);
-        } else {
-            unstable = h;
-            if (stable > 0.0) break;
-            if (h <= low) {
-                out.h = std::nan("");
-                return out;
-            }
-            h = std::max(0.5 * h, low);
-        }
-    }
-    while (unstable / stable > 1.0 + precision) {
-        const double mid = std::sqrt(stable * unstable);
-        (stableAt(mid) ? stable : unstable) = mid;
-    }
-    // The failure of the smallest unstable step.
-    stableAt(unstable);
-    out.h = stable;
+    out.h = largestStable(start, low, high, precision, stableAt);
     return out;
 }
 

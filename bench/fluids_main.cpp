@@ -24,7 +24,9 @@ using gpl::study::fixed;
 using gpl::study::FluidMethod;
 using gpl::study::Output;
 using gpl::study::pad;
+using gpl::study::row;
 using gpl::study::sci;
+using gpl::study::split;
 
 const std::vector<std::string> kParts{"iterations", "stiffness", "cost", "limit", "dambreak"};
 // Each method's time per iteration-equivalent over the bare loop's, at most.
@@ -59,20 +61,6 @@ Plan quickPlan() {
     p.runs = 2;
     p.damBreakT = 0.9;
     return p;
-}
-
-void row(const std::vector<std::string>& cells, const std::vector<std::size_t>& widths) {
-    for (std::size_t c = 0; c < cells.size(); ++c) std::cout << pad(cells[c], widths[c]);
-    std::cout << std::endl;
-}
-
-std::vector<std::string> split(const std::string& list) {
-    std::vector<std::string> out;
-    std::stringstream in(list);
-    for (std::string item; std::getline(in, item, ',');) {
-        if (!item.empty()) out.push_back(item);
-    }
-    return out;
 }
 
 std::string percent(double relative) { return std::isinf(relative) ? "blew up" : fixed(100.0 * relative, 2); }

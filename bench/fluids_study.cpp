@@ -8,6 +8,7 @@
 #include "gpl/engine.h"
 #include "gpl/fluid_experiments.h"
 #include "gpl/scenes.h"
+#include "report.h"
 
 namespace gpl::study {
 
@@ -116,29 +117,7 @@ StableStep largestStableSphStep(const Column& column, double soundSpeed, double 
         if (!why.empty()) out.failure = why;
         return why.empty();
     };
-    // Bracket from `start`: double h while stable, halve it while not; then bisect on log h.
-    double stable = 0.0, unstable = 0.0;
-    for (double h = start;;) {
-        if (stableAt(h)) {
-            stable = h;
-            if (unstable > 0.0) break;
-            h *= 2.0;
-        } else {
-            unstable = h;
-            if (stable > 0.0) break;
-            if (h <= low) {
-                out.h = std::nan("");
-                return out;
-            }
-            h = std::max(0.5 * h, low);
-        }
-    }
-    while (unstable / stable > 1.0 + precision) {
-        const double mid = std::sqrt(stable * unstable);
-        (stableAt(mid) ? stable : unstable) = mid;
-    }
-    stableAt(unstable);  // the failure of the smallest unstable step
-    out.h = stable;
+    out.h = largestStable(start, low, std::numeric_limits<double>::infinity(), precision, stableAt);
     return out;
 }
 

@@ -31,6 +31,7 @@ using gpl::bench::BodyState;
 using gpl::study::fixed;
 using gpl::study::pad;
 using gpl::study::sci;
+using gpl::study::split;
 
 // This engine's contact solvers, each set after the scene is loaded.
 struct SolverConfig {
@@ -191,14 +192,6 @@ bool asTheorySays(const std::string& scene, const std::string& verdict) {
     return false;
 }
 
-std::vector<std::string> split(const std::string& list) {
-    std::vector<std::string> out;
-    std::stringstream in(list);
-    for (std::string item; std::getline(in, item, ',');) {
-        if (!item.empty()) out.push_back(item);
-    }
-    return out;
-}
 
 }  // namespace
 
