@@ -241,7 +241,8 @@ public:
     // ---- Framework stage (worksheet 7) -------------------------------------------------------------
     /// Friction and resting contact (friction.cpp): measures every contact point's approach and
     /// prepares the point once with prepareContactPoint(), warm starts it with applyWarmStart() from
-    /// last step's sums (same pair of bodies, nearest point within kWarmStartDistance), then sweeps
+    /// last step's sums (same pair of bodies in either order, each point paired one to one with the
+    /// nearest of last step's points where the bodies carry them now, within kWarmStartDistance), then sweeps
     /// contactIterations() times over contacts() with applyNormalImpulse() and
     /// applyFrictionImpulse() at every prepared point; then every body ends the step
     /// where its new velocity takes it (moved by h times the change of its velocity, turned by h times
