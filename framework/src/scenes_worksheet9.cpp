@@ -8,6 +8,7 @@
 // more than about a spacing.
 #include <cmath>
 
+#include "gpl/fluid_experiments.h"
 #include "gpl/scenes.h"
 
 namespace gpl {
@@ -16,8 +17,8 @@ namespace worksheet9 {
 
 constexpr double kDamBreakStep = 0.005;  // s
 constexpr double kFluidStep = 0.01;      // s
-constexpr double kSpacing = 0.025;    // m
-constexpr double kWall = 0.05;        // m, the tank walls' half thickness
+constexpr double kSpacing = 0.025;       // m
+constexpr double kWall = 0.05;           // m, the tank walls' half thickness
 
 FluidParameters water() {
     FluidParameters f;
@@ -28,21 +29,9 @@ FluidParameters water() {
 }
 
 // A closed tank whose inside is `inside` (its floor at inside.lower.y): a floor, four walls and a
-// lid of static boxes kWall * 2 thick, and the box as the fluid's container.
+// lid of static boxes kWall * 2 thick (tankWalls()), and the box as the fluid's container.
 void addTank(PhysicsEngine& e, const FluidBox& inside) {
-    const Vec3 size = inside.upper - inside.lower;
-    const Vec3 centre = 0.5 * (inside.lower + inside.upper);
-    const Vec3 half = 0.5 * size + Vec3::Constant(2.0 * kWall);  // the walls overlap at the edges
-    for (int axis = 0; axis < 3; ++axis) {
-        for (const int side : {-1, 1}) {
-            Vec3 halfExtents = half;
-            halfExtents[axis] = kWall;
-            Vec3 at = centre;
-            at[axis] += side * (0.5 * size[axis] + kWall);
-            const char* names[3][2] = {{"wall-left", "wall-right"}, {"floor", "lid"}, {"wall-back", "wall-front"}};
-            e.add(box(names[axis][side > 0], halfExtents, 1.0).at(at).makeStatic());
-        }
-    }
+    for (const Body& wall : tankWalls(inside, kWall)) e.add(wall);
     e.fluids().setContainer(inside);
 }
 

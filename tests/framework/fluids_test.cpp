@@ -10,30 +10,14 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <new>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "allocation_counter.h"
 #include "gpl/fluid_experiments.h"
 #include "gpl/particle_grid.h"
 #include "gpl/scenes.h"
-
-// Every allocation of this program counted, so that a test can see that a step makes none. The
-// replacements pair malloc with free; GCC, seeing free where a delete expression is inlined, warns.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-namespace {
-long allocations = 0;
-}  // namespace
-void* operator new(std::size_t size) {
-    ++allocations;
-    if (void* memory = std::malloc(size > 0 ? size : 1)) return memory;
-    throw std::bad_alloc();
-}
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
 
 namespace gpl {
 namespace {
@@ -292,24 +276,20 @@ TEST(Fluids, WcsphColumnShowsHydrostaticPressure) {
     // Least squares of pressure against height over the particles at least h from every wall, the
     // floor and the surface: hydrostatics says dp/dy = -rho g.
     const double h = f.parameters().smoothingLength;
-    double n = 0, sy = 0, sp = 0, syy = 0, syp = 0;
+    PressureLine line;
     for (std::size_t i = 0; i < f.size(); ++i) {
         const Vec3& q = f.x[i];
         if (q.x() < h || q.x() > 0.2 - h || q.z() < h || q.z() > 0.2 - h || q.y() < h || q.y() > top - h) continue;
-        n += 1;
-        sy += q.y();
-        sp += f.pressure[i];
-        syy += q.y() * q.y();
-        syp += q.y() * f.pressure[i];
+        line.add(q.y(), f.pressure[i]);
     }
-    ASSERT_GT(n, 50);
-    const double slope = (n * syp - sy * sp) / (n * syy - sy * sy);
+    ASSERT_GT(line.n, 50);
+    const double slope = line.slope();
     // 10 per cent: the spiky gradient summed over particles a spacing apart reproduces a linear
     // field's gradient within about 5 per cent at two spacings (0.956 over the rest lattice), and
     // the column still sways a little after 2.5 s.
     EXPECT_NEAR(-slope / (rho * 9.81), 1.0, 0.10) << "column density " << rho << " kg/m^3";
     // The pressure is zero at the surface, within the smoothing length.
-    EXPECT_NEAR((sp - slope * sy) / n / -slope, top, h);
+    EXPECT_NEAR(line.zeroHeight(), top, h);
 }
 
 // ---- A closed tank, momentum, allocations ------------------------------------------------------------

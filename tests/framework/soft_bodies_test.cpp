@@ -7,29 +7,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
-#include <new>
 #include <limits>
 #include <random>
 #include <string>
 
+#include "allocation_counter.h"
 #include "gpl/scenes.h"
 #include "gpl/soft_constraints.h"
-
-// Every allocation of this program counted, so that a test can see that a step makes none. The
-// replacements pair malloc with free; GCC, seeing free where a delete expression is inlined, warns.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-#endif
-namespace {
-long allocations = 0;
-}  // namespace
-void* operator new(std::size_t size) {
-    ++allocations;
-    if (void* memory = std::malloc(size > 0 ? size : 1)) return memory;
-    throw std::bad_alloc();
-}
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
 
 namespace gpl {
 namespace {

@@ -1,6 +1,6 @@
-// What the fluids' tests and the fluids study (bench/fluids_study.h) both build and measure: a closed
-// tank of static boxes around a fluid's container, the dam break's surge front, and Martin and
-// Moyce's measurements of it.
+// What the fluids' tests, the worksheet-9 autograder and the fluids study (bench/fluids_study.h)
+// build and measure: a closed tank of static boxes around a fluid's container, a line of pressure
+// against height, the dam break's surge front, and Martin and Moyce's measurements of it.
 #pragma once
 
 #include <algorithm>
@@ -30,6 +30,23 @@ inline std::vector<Body> tankWalls(const FluidBox& inside, double wall = 0.05) {
     }
     return walls;
 }
+
+/// A least-squares line of pressure against height over the samples added: in a fluid at rest
+/// hydrostatics says dp/dy = -rho g, and p = 0 at the surface.
+struct PressureLine {
+    double n = 0.0, sy = 0.0, sp = 0.0, syy = 0.0, syp = 0.0;
+    void add(double y, double p) {
+        n += 1.0;
+        sy += y;
+        sp += p;
+        syy += y * y;
+        syp += y * p;
+    }
+    /// dp/dy (Pa/m).
+    double slope() const { return (n * syp - sy * sp) / (n * syy - sy * sy); }
+    /// The height (m) where the line reaches p = 0; 0 when the pressure does not fall with height.
+    double zeroHeight() const { return slope() < 0.0 ? (sp - slope() * sy) / n / -slope() : 0.0; }
+};
 
 /// Martin and Moyce, "An experimental study of the collapse of liquid columns on a rigid horizontal
 /// plane", Phil. Trans. R. Soc. Lond. A 244 (1952) 312-324, figure 3: the surge front's distance

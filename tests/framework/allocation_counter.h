@@ -1,0 +1,23 @@
+// Every allocation of a test program counted, so that a test can see that a step makes none: the
+// replaceable operator new counts into `allocations`. A replaced operator new is defined once per
+// program, so one source file of a program includes this header (each test program is one file).
+// The replacements pair malloc with free; GCC, seeing free where a delete expression is inlined, warns.
+#pragma once
+
+#include <cstdlib>
+#include <new>
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
+/// How many times operator new has been called in this program.
+inline long allocations = 0;
+
+void* operator new(std::size_t size) {
+    ++allocations;
+    if (void* memory = std::malloc(size > 0 ? size : 1)) return memory;
+    throw std::bad_alloc();
+}
+void operator delete(void* memory) noexcept { std::free(memory); }
+void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
