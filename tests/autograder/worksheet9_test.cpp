@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "fluid.h"
+#include "gpl/fluid_experiments.h"
 #include "gpl/fluids.h"
 #include "gpl/particle_grid.h"
 #include "gpl/scenes.h"
@@ -619,16 +620,7 @@ void columnAtRest(PhysicsEngine& e) {
     e.setRequiredStages(kFluidStages);
     e.setTimeStep(0.005);
     const FluidBox inside{Vec3::Zero(), {0.2, 0.6, 0.2}};
-    const Vec3 size = inside.upper - inside.lower, centre = 0.5 * (inside.lower + inside.upper);
-    for (int axis = 0; axis < 3; ++axis) {
-        for (const int side : {-1, 1}) {
-            Vec3 half = 0.5 * size + Vec3::Constant(0.1);
-            half[axis] = 0.05;
-            Vec3 at = centre;
-            at[axis] += side * (0.5 * size[axis] + 0.05);
-            e.add(box("wall" + std::to_string(2 * axis + (side > 0)), half, 1.0).at(at).makeStatic());
-        }
-    }
+    for (const Body& wall : tankWalls(inside, 0.05)) e.add(wall);
     FluidParameters f;
     f.spacing = kColumnSpacing;
     f.smoothingLength = kSmoothingRatio * kColumnSpacing;
@@ -707,15 +699,82 @@ GRADED_TEST(Worksheet9, SloshingFluidStaysInTheTankAndLosesEnergy, 3,
     RecordProperty("energy_highest", std::to_string(highest));
 }
 
-// Martin and Moyce, "An experimental study of the collapse of liquid columns on a rigid horizontal
-// plane", Phil. Trans. R. Soc. Lond. A 244 (1952) 312-324, figure 3: the surge front's distance
-// from the back wall Z = z / a against T = t sqrt(2 g / a) for their column of n^2 = 2, up to Z =
-// 4.2, before the front nears the far wall of the scene's tank, 5a away (tests/framework/fluids_test.cpp
-// holds the same points).
-struct FrontPoint {
-    double T, Z;
-};
-constexpr FrontPoint kMartinMoyce[] = {{0.832, 1.217}, {1.219, 1.474}, {1.997, 2.292}, {2.547, 2.995}, {3.345, 4.134}};
+// A column of water 0.2 m square and 0.25 m tall at rest in a closed tank just as wide, stepped by
+// WCSPH at 5 ms with the framework's parameters (speed of sound 20 m/s) but Monaghan's alpha 0.3:
+// the viscosity damps the column's sound waves, so that it settles within 0.2 s.
+constexpr double kWcsphWidth = 0.2, kWcsphHeight = 0.25;  // m
+
+void wcsphColumnAtRest(PhysicsEngine& e) {
+    e.setRequiredStages(kSphStages);
+    e.setTimeStep(0.005);
+    const FluidBox inside{Vec3::Zero(), {kWcsphWidth, 0.4, kWcsphWidth}};
+    for (const Body& wall : tankWalls(inside, 0.05)) e.add(wall);
+    FluidParameters f;
+    f.spacing = kColumnSpacing;
+    f.smoothingLength = kSmoothingRatio * kColumnSpacing;
+    f.artificialViscosity = 0.3;
+    e.fluids().setParameters(f);
+    e.fluids().setContainer(inside);
+    e.fluids().addBlock(Vec3::Zero(), {kWcsphWidth, kWcsphHeight, kWcsphWidth});
+}
+
+GRADED_TEST(Worksheet9, WcsphColumnShowsHydrostaticPressure, 3,
+            "A column of water 0.25 m tall at rest in a closed tank, stepped by weakly compressible SPH for 0.3 s: "
+            "its pressure (Tait's equation of the framework, p = rho0 c^2 / 7 ((rho / rho0)^7 - 1)) grows with "
+            "depth d as rho g d, and is zero at the surface. The pressure force -m sum (p_i / rho_i^2 + p_j / "
+            "rho_j^2) grad W holds the water up against gravity only if spikyGradient() and fluidDensity() are "
+            "right, and simulationTimestep() must run the SPH stage.",
+            grading::dependsOn("DensityInLatticeIsRestDensity"), grading::dependsOn("SpikyGradientIntegral"),
+            grading::timeLimit(60)) {
+    wcsphColumnAtRest(engine);
+    const Fluids& f = engine.fluids();
+    const double rho0 = f.parameters().restDensity, c = f.parameters().soundSpeed;
+    const double h = f.parameters().smoothingLength, g = engine.gravity().norm();
+    // The first 0.2 s: the column settles onto its floor (it starts at the rest lattice, with no pressure).
+    grading::steps(engine, 40, [](int) {});
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    // The next 0.1 s: a least-squares line of pressure against height over every particle at least h
+    // from the walls, the floor and the surface, pooled over the steps so that what remains of the
+    // sound waves averages out. Hydrostatics: dp/dy = -rho g, rho the particles' mean density.
+    constexpr int kPooled = 20;
+    PressureLine line;
+    double srho = 0, stop = 0;
+    grading::steps(engine, kPooled, [&](int) {
+        const std::vector<double> rho = measuredDensities(f);
+        double top = 0.0;
+        for (const Vec3& q : f.x) top = std::max(top, q.y() + f.radius());
+        stop += top;
+        for (std::size_t i = 0; i < f.size(); ++i) {
+            const Vec3& q = f.x[i];
+            if (q.x() < h || q.x() > kWcsphWidth - h || q.z() < h || q.z() > kWcsphWidth - h || q.y() < h ||
+                q.y() > top - h) {
+                continue;
+            }
+            // Tait's equation of state, the framework's: p = B ((rho / rho0)^7 - 1), B = rho0 c^2 / 7, not below 0.
+            line.add(q.y(), std::max(rho0 * c * c / 7.0 * (std::pow(rho[i] / rho0, 7) - 1.0), 0.0));
+            srho += rho[i];
+        }
+    });
+    ASSERT_FALSE(::testing::Test::HasFailure());
+    const double top = stop / kPooled;  // m: the surface, averaged over the steps
+    ASSERT_GT(line.n, 20.0 * kPooled) << "particles inside the column over " << kPooled
+                                      << " steps; the column no longer stands, its top at " << top << " m";
+    const double slope = line.slope(), rho = srho / line.n, surface = line.zeroHeight();
+    RecordProperty("pressure_slope_over_rho_g", std::to_string(-slope / (rho * g)));
+    RecordProperty("zero_pressure_height", std::to_string(surface));
+    RecordProperty("surface", std::to_string(top));
+    // 10 per cent: the spiky gradient summed over the rest lattice at two spacings gives 0.956 of a
+    // linear field's gradient, so the pressure holding the water up is about 5 per cent steeper than
+    // rho g, and the remaining sound waves add a few per cent; without pressure the slope is 0, and a
+    // gradient of the wrong size holds the water up with a pressure of the wrong size.
+    EXPECT_NEAR(-slope / (rho * g), 1.0, 0.10)
+        << "dp/dy over rho g inside the column: the pressure falls by " << -slope
+        << " Pa/m of height, rho g = " << rho * g << " Pa/m (mean density " << rho << " kg/m^3)";
+    // The pressure is zero at the surface, within the smoothing length (the kernels' reach).
+    EXPECT_NEAR(surface, top, h) << "the height (m) where the pressure, a straight line in y, is zero; the column's "
+                                    "surface is at "
+                                 << top << " m";
+}
 
 GRADED_TEST(Worksheet9, DamBreakFrontFollowsMartinAndMoyce, 4,
             "The dam break (a column a = 0.25 m wide and 2a tall released at t = 0, stepped by PBF): the surge front's "
@@ -729,11 +788,7 @@ GRADED_TEST(Worksheet9, DamBreakFrontFollowsMartinAndMoyce, 4,
     const Fluids& f = e.fluids();
     const double a = 0.25;                           // m, the scene's column width
     const double scale = std::sqrt(2.0 * 9.81 / a);  // T per second
-    const auto front = [&] {
-        double z = 0.0;
-        for (const Vec3& q : f.x) z = std::max(z, q.x());
-        return (z + f.radius()) / a;
-    };
+    const auto front = [&] { return surgeFront(f) / a; };
     double previousT = 0.0, previousZ = front(), T = 0.0, Z = previousZ;
     for (const FrontPoint& m : kMartinMoyce) {
         // Z at the measured T, interpolated between the steps around it.
