@@ -724,8 +724,8 @@ GRADED_TEST(Worksheet9, WcsphColumnShowsHydrostaticPressure, 3,
             "depth d as rho g d, and is zero at the surface. The pressure force -m sum (p_i / rho_i^2 + p_j / "
             "rho_j^2) grad W holds the water up against gravity only if spikyGradient() and fluidDensity() are "
             "right, and simulationTimestep() must run the SPH stage.",
-            grading::dependsOn("DensityInLatticeIsRestDensity"), grading::dependsOn("SpikyGradientIntegral"),
-            grading::timeLimit(60)) {
+            grading::timeLimit(60), grading::dependsOn("SpikyGradientIntegral"),
+            grading::dependsOn("DensityInLatticeIsRestDensity")) {
     wcsphColumnAtRest(engine);
     const Fluids& f = engine.fluids();
     const double rho0 = f.parameters().restDensity, c = f.parameters().soundSpeed;
