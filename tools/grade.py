@@ -60,6 +60,11 @@ from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits,
 from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, Programs, failed_results,  # noqa: E402
                              grade_binary, run_one, select, with_prerequisites)
 
+# How many of one engine's tests are graded at once, each in its own sandbox: one per core. A batch
+# grades its submissions at once instead, each one test at a time.
+TESTS_AT_ONCE = os.cpu_count() or 1
+
+
 class GradeParser(OneLineParser):
     """Command-line errors as one line that points at the lab's own help (./lab grade --help)."""
 
@@ -98,7 +103,7 @@ def cmd_grade(args):
         if not ok:
             raise GradeError("the reference solutions do not build: " + first_errors(log, 1))
         programs = Programs(build_dir / "tests" / "gpl-checker", build_dir / "tests" / "gpl-hooks-solutions")
-        results = grade_binary(programs, args.worksheet, args.defaults, guard)
+        results = grade_binary(programs, args.worksheet, args.defaults, guard, jobs=TESTS_AT_ONCE)
         return report(results, "solutions", args, time.monotonic() - start)
     # The student's assignments/ and a submission folder are graded alike: their hook files compiled
     # in the sandbox, the checker and the engine's server from the lab's own build.
@@ -116,7 +121,7 @@ def cmd_grade(args):
     checker = build_dir / "tests" / "gpl-checker"
     if sub.build_errors is not None:
         print("the code does not compile; every test scores zero. First errors:\n" + sub.build_errors)
-    grade_submission(sub, args, checker, guard, lambda: reference_tests(checker, args.worksheet))
+    grade_submission(sub, args, checker, guard, lambda: reference_tests(checker, args.worksheet), TESTS_AT_ONCE)
     return report(sub.results, label, args, time.monotonic() - start, sub.notes() if args.submission else "",
                   root=None if args.submission else ROOT)
 
@@ -253,7 +258,7 @@ def cmd_report(args):
     check_writable(args.json)
     check_writable(args.junit)
     start = time.monotonic()
-    results = grade_binary(Programs(args.checker, args.hooks), args.worksheet, args.defaults)
+    results = grade_binary(Programs(args.checker, args.hooks), args.worksheet, args.defaults, jobs=TESTS_AT_ONCE)
     return report(results, pathlib.Path(args.hooks).name, args, time.monotonic() - start)
 
 
@@ -281,7 +286,7 @@ def cmd_selfcheck(args):
         if not only:
             raise GradeError(f"no graded tests for worksheet {args.from_worksheet} or later; the worksheets with "
                              "graded tests: " + ", ".join(map(str, sorted({t["worksheet"] for t in tests}))))
-    results = grade_binary(programs, args.worksheet, args.defaults, only=only)
+    results = grade_binary(programs, args.worksheet, args.defaults, only=only, jobs=TESTS_AT_ONCE)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]

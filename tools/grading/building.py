@@ -593,7 +593,7 @@ def reference_tests(checker, worksheet):
     return select(checker_manifest(checker), worksheet)
 
 
-def grade_submission(sub, args, checker, guard, tests):
+def grade_submission(sub, args, checker, guard, tests, jobs=1):
     start = time.monotonic()
     if sub.error:
         sub.results = failed_results(tests(), sub.error)
@@ -601,6 +601,6 @@ def grade_submission(sub, args, checker, guard, tests):
         sub.results = failed_results(tests(), "the submission does not compile:\n" + sub.build_errors)
     else:
         sub.results = grade_binary(Programs(checker, sub.engine), args.worksheet, args.defaults, guard,
-                                   tests=tests())
+                                   tests=tests(), jobs=jobs)
     sub.seconds = time.monotonic() - start
     return sub

@@ -1,5 +1,6 @@
 """Running graded tests: for each, the trusted checker and the submission's engine in the sandbox,
 wired by pipes; limits; and what a failure means (which hook, which limit)."""
+import concurrent.futures
 import fcntl
 import json
 import os
@@ -721,24 +722,49 @@ def select(tests, worksheet):
     return picked
 
 
-def grade_binary(programs, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, only=None, tests=None):
+def grade_binary(programs, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, only=None, tests=None, jobs=1):
     """Grades every selected test (of the worksheet; of those named in `only` too, when given),
     prerequisites first, the list from the trusted checker. A test whose prerequisite lost its
-    points is not run: it scores zero and says which prerequisite to fix first."""
+    points is not run: it scores zero and says which prerequisite to fix first. Up to `jobs` tests
+    run at once, each in its own sandbox, a test only once the prerequisites listed before it are
+    decided: the results are those of one test at a time, in the list's order."""
     tests = select(tests if tests is not None else programs.manifest(), worksheet)
     if only is not None:
         tests = [t for t in tests if t["name"] in only]
-    results = {}
-    for t in tests:
-        blocked = [d for d in t["depends_on"] if d in results and not results[d]["passed"]]
-        if blocked:
-            results[t["name"]] = {**t, "passed": False, "not_run": True, "score": 0.0, "seconds": 0.0,
-                                  "output": f"not run: depends on {', '.join(blocked)}, which did not pass; fix that first"}
-            continue
+    position = {t["name"]: i for i, t in enumerate(tests)}
+    before = {t["name"]: [d for d in t["depends_on"] if position.get(d, len(tests)) < position[t["name"]]]
+              for t in tests}
+
+    def graded(t):
         passed, output, seconds = run_one(programs, t["name"], limits_of(t, defaults), guard)
-        results[t["name"]] = {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
-                              "output": output, "seconds": seconds}
-    return list(results.values())
+        return {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
+                "output": output, "seconds": seconds}
+
+    results, waiting, running = {}, list(tests), {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        while waiting or running:
+            started = True
+            while started:  # a test found not run may decide the next one's prerequisites
+                started = False
+                for t in list(waiting):
+                    if any(d not in results for d in before[t["name"]]):
+                        continue
+                    blocked = [d for d in before[t["name"]] if not results[d]["passed"]]
+                    if blocked:
+                        results[t["name"]] = {
+                            **t, "passed": False, "not_run": True, "score": 0.0, "seconds": 0.0,
+                            "output": f"not run: depends on {', '.join(blocked)}, which did not pass; fix that first"}
+                    elif len(running) < max(1, jobs):
+                        running[pool.submit(graded, t)] = t
+                    else:
+                        continue
+                    waiting.remove(t)
+                    started = True
+            if running:
+                done, _ = concurrent.futures.wait(running, return_when=concurrent.futures.FIRST_COMPLETED)
+                for future in done:
+                    results[running.pop(future)["name"]] = future.result()
+    return [results[t["name"]] for t in tests]
 
 
 
