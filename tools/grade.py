@@ -31,7 +31,8 @@ Exit status: 0 full marks, 1 points lost, 2 the grading itself could not run (a 
 Each test runs in its own pair of processes, with a time limit (its own, declared with the test,
 or --timeout) and an output cap: a crash, a timeout or endless output costs that test only. The
 test list, points and limits come from the checker, never from the code graded. A test whose
-prerequisite fails is "not run". A submission contributes only its hook files.
+prerequisite fails is "not run". One test per core runs at once (a batch: one submission per core,
+each one test at a time). A submission contributes only its hook files.
 """
 import argparse
 import concurrent.futures
