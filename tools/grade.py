@@ -57,13 +57,14 @@ from grading.cgroups import Cgroups  # noqa: E402
 from grading.guard import Guard  # noqa: E402
 from grading.reports import (Progress, check_writable, gradebook, gradescope, report, table,  # noqa: E402
                              write_atomically)
-from grading.sandbox import BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of  # noqa: E402
+from grading.sandbox import (BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of,  # noqa: E402
+                             usable_cores)
 from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, Programs, failed_results,  # noqa: E402
                              grade_binary, run_one, select, with_prerequisites)
 
-# How many of one engine's tests are graded at once, each in its own sandbox: one per core. A batch
-# grades its submissions at once instead, each one test at a time.
-TESTS_AT_ONCE = os.cpu_count() or 1
+# How many of one engine's tests are graded at once, each in its own sandbox: one per usable core. A
+# batch grades its submissions at once instead, each one test at a time.
+TESTS_AT_ONCE = usable_cores()
 
 
 class GradeParser(OneLineParser):
@@ -150,7 +151,7 @@ def cmd_batch(args):
         raise GradeError(f"batch folder {batch} holds no submission folders")
     if skipped:
         print(f"not submission folders, skipped: {', '.join(skipped)}", file=sys.stderr)
-    jobs = args.jobs or os.cpu_count() or 1
+    jobs = args.jobs or usable_cores()
     fits = BUDGET.slots(args.memory)
     if fits is not None and jobs > fits:
         print(f"{jobs} jobs would need more memory than the machine has available: {fits} at once "

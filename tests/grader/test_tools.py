@@ -271,6 +271,56 @@ class Pairs(unittest.TestCase):
             self.assertTrue(all(t[k] >= 0 for k in ("memory_limit", "thread_limit", "file_limit")), t)
 
 
+class TestsAtOnce(unittest.TestCase):
+    TESTS = [{"name": n, "worksheet": 1, "points": 1.0, "depends_on": d, "timeout": 5.0}
+             for n, d in [("A", []), ("B", ["A"]), ("C", []), ("D", ["C"]), ("E", ["D", "B"]), ("F", ["Z"]),
+                          ("G", ["H"]), ("H", []), ("I", ["A"])]]
+
+    def grade(self, jobs):
+        """Grades TESTS with run_one() replaced: C fails, each test takes a few milliseconds; returns the
+        results and, per test, when it started and ended."""
+        times, lock = {}, threading.Lock()
+
+        def run_one(programs, name, limits, guard=None):
+            start = time.monotonic()
+            time.sleep(0.02)
+            with lock:
+                times[name] = (start, time.monotonic())
+            return name != "C", f"ran {name}", 0.02
+
+        with mock.patch.object(running, "run_one", run_one), mock.patch.object(running, "limits_of",
+                                                                            lambda t, d: None):
+            return running.grade_binary(None, tests=self.TESTS, jobs=jobs), times
+
+    def test_the_results_are_those_of_one_at_a_time(self):
+        alone, _ = self.grade(1)
+        together, times = self.grade(3)
+        self.assertEqual(together, alone)
+        self.assertEqual([r["name"] for r in together], [t["name"] for t in self.TESTS])
+        outcome = {r["name"]: (r["passed"], r["not_run"]) for r in together}
+        # C fails: D is not run, and so E (D before it); G's prerequisite comes after it, F's is not graded.
+        self.assertEqual(outcome, {"A": (True, False), "B": (True, False), "C": (False, False), "D": (False, True),
+                                   "E": (False, True), "F": (True, False), "G": (True, False), "H": (True, False),
+                                   "I": (True, False)})
+        # No test starts before the prerequisites listed before it have ended; some ran at once.
+        self.assertGreaterEqual(times["B"][0], times["A"][1])
+        self.assertGreaterEqual(times["I"][0], times["A"][1])
+        self.assertTrue(any(times[x][0] < times[y][1] and times[y][0] < times[x][1]
+                            for x in times for y in times if x < y), times)
+
+    def test_usable_cores_follow_the_cgroup_quota(self):
+        here = len(os.sched_getaffinity(0))
+        for files, cores in [({"cpu.max": "150000 100000"}, 1), ({"cpu.max": "max 100000"}, here),
+                             ({"cpu.max": "50000 100000"}, 1), ({"cpu.max": f"{100000 * (here + 4)} 100000"}, here),
+                             ({"cpu/cpu.cfs_quota_us": "100000", "cpu/cpu.cfs_period_us": "100000"}, 1),
+                             ({"cpu/cpu.cfs_quota_us": "-1", "cpu/cpu.cfs_period_us": "100000"}, here), ({}, here)]:
+            with self.subTest(files=files), tempfile.TemporaryDirectory() as tmp:
+                for name, text in files.items():
+                    (pathlib.Path(tmp) / name).parent.mkdir(parents=True, exist_ok=True)
+                    (pathlib.Path(tmp) / name).write_text(text + "\n")
+                self.assertEqual(sandbox.usable_cores(tmp), cores)
+
+
 class Sandboxing(unittest.TestCase):
     def test_this_machine_allows_the_sandbox(self):
         here = sandbox.Sandbox.here()

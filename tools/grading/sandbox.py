@@ -263,7 +263,31 @@ def usage(pid):
     return memory / MIB, threads
 
 
-# ---- Memory for tests running at once -------------------------------------------------------------
+# ---- Cores and memory for tests running at once ---------------------------------------------------
+
+def usable_cores(cgroup_root="/sys/fs/cgroup"):
+    """The cores this process may use at once: those it may run on, fewer where its cgroup's CPU
+    quota gives fewer (in a container os.cpu_count() counts the host's cores). At least one."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    root = pathlib.Path(cgroup_root)
+    quota = None
+    try:  # cgroup v2: "QUOTA PERIOD" or "max PERIOD"
+        fields = (root / "cpu.max").read_text().split()
+        if fields[0] != "max":
+            quota = int(fields[0]) / int(fields[1])
+    except (OSError, ValueError, IndexError, ZeroDivisionError):
+        try:  # cgroup v1: a quota of -1 is none
+            q = int((root / "cpu" / "cpu.cfs_quota_us").read_text())
+            period = int((root / "cpu" / "cpu.cfs_period_us").read_text())
+            if q > 0 and period > 0:
+                quota = q / period
+        except (OSError, ValueError):
+            pass
+    if quota is not None:
+        cores = min(cores, int(quota))
+    return max(1, cores)
+
+
 
 def available_mib():
     try:
