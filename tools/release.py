@@ -43,7 +43,7 @@ HIDDEN_OPTION = "grading::hidden()"
 RELEASED = ["lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".gitignore",
             "cmake", "framework", "bench", "worksheets", "tests/CMakeLists.txt", "tests/framework", "tests/autograder",
             "tests/grading",
-            "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
+            "tools/grade.py", "tools/grading", "tools/headless.py", "tools/hooks.py", "tools/similarity.py"]
 # The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
 GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
               "tests/framework", "tests/autograder", "tests/grading", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]

@@ -9,6 +9,8 @@ import tempfile
 import unittest
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
+# Runs a command on a virtual display of its own (tools/headless.py); the status is the command's.
+HEADLESS = [sys.executable, str(ROOT / "tools" / "headless.py")]
 RUN = os.environ.get("GPL_RUN_SOLUTIONS")
 VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 BENCH = os.environ.get("GPL_BENCH_SOLUTIONS")
@@ -84,6 +86,9 @@ TOOL_CASES = [
     (["tools/hooks.py", "stub", "/nonexistent.cpp"], "file", "expects a file that exists"),
     (["tools/hooks.py", "write", "--backup"], "--backup", "expected one argument"),
     (["tools/hooks.py", "check", "--bogus"], "--bogus", "unrecognized"),
+    (["tools/headless.py", "--size", "1x", "true"], "--size", "got '1x'"),
+    (["tools/headless.py", "--size"], "--size", "expects WIDTHxHEIGHT"),
+    (["tools/headless.py"], "COMMAND", "usage"),
 ]
 
 
@@ -111,7 +116,7 @@ class CommandLineErrors(unittest.TestCase):
 
     @unittest.skipUnless(VIEWER, "GPL_VIEWER_SOLUTIONS names the viewer")
     def test_viewer_script(self):
-        cmd = ["xvfb-run", "-a", "-s", "-screen 0 320x240x24", *PRELOAD, VIEWER, "--width", "320", "--height", "240",
+        cmd = [*HEADLESS, "--size", "320x240", *PRELOAD, VIEWER, "--width", "320", "--height", "240",
                "--script", "wait 1; jump"]
         self.check(cmd, "--script", "got 'jump'")
 
@@ -132,6 +137,20 @@ class CommandLineErrors(unittest.TestCase):
     def test_tools(self):
         for args, option, says in TOOL_CASES:
             self.check([sys.executable, *args], option, says)
+
+    def test_headless_gives_the_commands_status_on_a_display_of_its_own(self):
+        # Four at once, each on its own display; a status of the command's and not of the display's.
+        runs = [subprocess.Popen([*HEADLESS, "sh", "-c", f'echo "$DISPLAY"; exit {status}'], text=True,
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE) for status in (0, 2, 3, 5)]
+        results = [(run.communicate(timeout=60), run.returncode) for run in runs]
+        self.assertEqual([status for _, status in results], [0, 2, 3, 5], [err for (_, err), _ in results])
+        displays = [out.strip() for (out, _), _ in results]
+        self.assertEqual(len(set(displays)), 4, displays)
+        self.assertTrue(all(d.startswith(":") and d[1:].isdigit() for d in displays), displays)
+        killed = subprocess.run([*HEADLESS, "sh", "-c", "kill -TERM $$"], capture_output=True, timeout=60)
+        self.assertEqual(killed.returncode, 128 + 15, "a command ended by SIGTERM")
+        missing = subprocess.run([*HEADLESS, "/nonexistent-program"], capture_output=True, text=True, timeout=60)
+        self.assertEqual((missing.returncode, len(missing.stderr.splitlines())), (127, 1), missing.stderr)
 
     def test_a_good_value_is_taken(self):
         # The checks let good values through: the same options with values that are right.

@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
     else if (!strcmp(what, "socketpair")) { int sv[2]; r = socketpair(AF_UNIX, SOCK_STREAM, 0, sv); }
     else if (!strcmp(what, "unshare")) r = unshare(CLONE_NEWUSER);
     else if (!strcmp(what, "setns")) r = setns(0, 0);
-    else if (!strcmp(what, "mount")) r = mount("none", "/tmp", "tmpfs", 0, 0);
+    else if (!strcmp(what, "mount")) r = mount("none", "/proc/gpl-no-folder-here", "tmpfs", 0, 0);  /* harmless where the filter is missing */
     else if (!strcmp(what, "chroot")) r = chroot("/");
     else if (!strcmp(what, "memfd")) r = memfd_create("x", 0);
     else if (!strcmp(what, "shmget")) r = shmget(IPC_PRIVATE, 4096, IPC_CREAT | 0600);

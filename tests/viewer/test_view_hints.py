@@ -6,10 +6,15 @@ camera the renderer uses; a cloth, rope or soft body as the spheres of its parti
 overlay is."""
 import json
 import os
+import pathlib
 import subprocess
+import sys
 import unittest
 from concurrent.futures import ThreadPoolExecutor
 
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+# Runs a command on a virtual display of its own (tools/headless.py); the status is the command's.
+HEADLESS = [sys.executable, str(ROOT / "tools" / "headless.py")]
 VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 RUNNER = os.environ.get("GPL_RUN_SOLUTIONS")
 # Libraries to preload into the viewer in a sanitizer build (tests/CMakeLists.txt says why).
@@ -20,17 +25,10 @@ SPEED = 6
 DUMP_SECONDS = 0.1
 
 
-# xvfb-run exits 5, in place of the viewer's own status, when it fails to remove its temporary folder
-# after the viewer has ended (seen once in a full run of the tests beside other displays): that run says
-# nothing about the viewer, so it is run again.
-XVFB_CLEANUP_FAILED = "problem while cleaning up temporary directory"
-
 
 def viewer(*args, timeout=300):
-    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x720x24", *PRELOAD, VIEWER, *map(str, args)]
+    cmd = [*HEADLESS, *PRELOAD, VIEWER, *map(str, args)]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    if proc.returncode == 5 and XVFB_CLEANUP_FAILED in proc.stderr:  # not the viewer's status
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
     return proc.returncode, states, proc.stdout[-2000:] + proc.stderr[-2000:]
 
