@@ -998,15 +998,24 @@ class GradescopeAutograder(test_release.GradescopeAutograder):
         self.assertEqual(check.returncode, 0, check.stdout)
         return json.loads(written)
 
+    def full_marks(self):
+        """The static initializer's submission, graded once: the reference otherwise, it earns full
+        marks over the whole course, and the bundle's checks of a full-marks grading (hidden tests
+        after publishing) are made on it, so that the course is graded whole once for both."""
+        cls = type(self)
+        if not hasattr(cls, "hostile"):
+            self.assertEqual(self.made.returncode, 0, self.made.stdout[-2000:] + self.made.stderr[-2000:])
+            self.assertEqual(self.setup.returncode, 0, self.setup.stdout[-3000:] + self.setup.stderr[-3000:])
+            cls.hostile = self.run_autograder({"integrator.cpp": SAW,
+                                               "sphere_plane.cpp": static_attack(self.paths, self.listener.port)})
+        return cls.hostile
+
     def test_hostile_then_honest(self):
         """The static initializer's submission (the reference otherwise: full marks over the whole
         course), then the untouched stubs (zero) in the same tree: a daemon left by the first would
         rewrite the second's results.json, which is the file it aims at."""
-        self.assertEqual(self.made.returncode, 0, self.made.stdout[-2000:] + self.made.stderr[-2000:])
-        self.assertEqual(self.setup.returncode, 0, self.setup.stdout[-3000:] + self.setup.stderr[-3000:])
         tests = trusted_tests()
-        hostile = self.run_autograder({"integrator.cpp": SAW,
-                                       "sphere_plane.cpp": static_attack(self.paths, self.listener.port)})
+        hostile = self.full_marks()
         honest = self.run_autograder({name: STUB[name] for name in hooks.hook_files()})
         for name, data, score in (("hostile", hostile, sum(t["points"] for t in tests)), ("honest", honest, 0)):
             with self.subTest(submission=name):
