@@ -42,17 +42,19 @@ double densityErrorOf(const Fluids& fluid, std::size_t i) {
     return fluid.density[i] / fluid.parameters().restDensity - 1.0;
 }
 
+void fluidColour(const Fluids& fluid, std::size_t i, FluidColouring colouring, double range, std::uint8_t rgba[4]) {
+    const double inverse = 1.0 / std::max(range, 1e-12);
+    if (colouring == FluidColouring::Speed) {
+        sequentialColour(fluid.v[i].norm() * inverse, rgba);
+    } else {
+        divergingColour(densityErrorOf(fluid, i) * inverse, rgba);
+    }
+}
+
 void fluidColours(const Fluids& fluid, FluidColouring colouring, double range, std::vector<std::uint8_t>& rgba) {
     const std::size_t n = fluid.size();
     rgba.resize(4 * n);
-    const double inverse = 1.0 / std::max(range, 1e-12);
-    for (std::size_t i = 0; i < n; ++i) {
-        if (colouring == FluidColouring::Speed) {
-            sequentialColour(fluid.v[i].norm() * inverse, &rgba[4 * i]);
-        } else {
-            divergingColour(densityErrorOf(fluid, i) * inverse, &rgba[4 * i]);
-        }
-    }
+    for (std::size_t i = 0; i < n; ++i) fluidColour(fluid, i, colouring, range, &rgba[4 * i]);
 }
 
 const char* fluidMethodName(const PhysicsEngine& engine) {
@@ -90,6 +92,84 @@ std::optional<ParticleHit> pickFluidParticle(const Fluids& fluid, const Ray& ray
         if (!best || t < best->distance) best = ParticleHit{static_cast<std::uint32_t>(i), t};
     }
     return best;
+}
+
+double spriteWidth(double radius, double depth, double pixelsPerMetre) {
+    return std::max(kSmallestSprite, 2.0 * radius * pixelsPerMetre / std::max(depth, 1e-3));
+}
+
+void visibleSprites(const Camera& camera, const Fluids& fluid, int width, int height,
+                    const std::vector<std::uint32_t>& order, SpriteDepths& work, std::vector<std::uint32_t>& visible) {
+    constexpr double kPi = 3.14159265358979323846;
+    // A sprite marks the cells it covers only up to this width (pixels): far below the largest point
+    // a GL implementation draws, so that no sprite is drawn smaller than it is marked.
+    constexpr double kLargestOccluder = 64.0;
+    // A fragment is drawn where a pixel's centre lies in the disc. A cell counts as covered when its
+    // pixels' centres lie kSlack inside a disc, and a disc is looked up in every cell with a pixel's
+    // centre within kSlack beyond its edge: room for the rasteriser's rounding of a sprite's place.
+    constexpr double kSlack = 0.25;  // pixels
+    visible.clear();
+    width = std::max(width, 1), height = std::max(height, 1);
+    const double pixelsPerMetre = 0.5 * height / std::tan(Camera::kFieldOfViewY * kPi / 360.0);
+    const Vec3 eye = camera.eye(), forward = camera.forward(), right = camera.right(), up = camera.up();
+    const double radius = fluid.radius();
+    // Cells about a fifth of a sprite at the camera's target: a few to a sprite, whatever the zoom.
+    work.cell = static_cast<int>(std::clamp(spriteWidth(radius, camera.distance(), pixelsPerMetre) / 5.0, 2.0, 16.0));
+    work.columns = (width + work.cell - 1) / work.cell, work.rows = (height + work.cell - 1) / work.cell;
+    work.nearest.assign(static_cast<std::size_t>(work.columns) * work.rows, HUGE_VALF);
+    // In cells from here on (single precision: a few thousand cells across); a pixel's centre lies
+    // half a pixel inside its cell's edge.
+    const float perCell = 1.0f / static_cast<float>(work.cell), margin = 0.5f * perCell;
+    const float span = 1.0f - 2.0f * margin;  // from a cell's first pixel centre to its last
+    // floor() of a number above -kOffset, by truncation.
+    constexpr float kOffset = 4096.0f;
+    const auto floorOf = [](float v) { return static_cast<int>(v + kOffset) - static_cast<int>(kOffset); };
+    const auto ceilOf = [&](float v) { return -floorOf(-v); };
+    for (std::uint32_t i : order) {
+        const Vec3 d = fluid.x[i] - eye;
+        const double depth = d.dot(forward);
+        if (!(depth > Camera::kNear)) {  // near the eye or behind it: left to GL's clipping
+            visible.push_back(i);
+            continue;
+        }
+        const double half = 0.5 * spriteWidth(radius, depth, pixelsPerMetre);
+        const double px = 0.5 * width + pixelsPerMetre * d.dot(right) / depth;  // pixels from the left
+        const double py = 0.5 * height + pixelsPerMetre * d.dot(up) / depth;    // pixels from the bottom
+        if (px + half + kSlack < 0.0 || py + half + kSlack < 0.0 || px - half - kSlack > width ||
+            py - half - kSlack > height) {
+            continue;
+        }
+        const auto x = static_cast<float>(px) * perCell, y = static_cast<float>(py) * perCell;
+        const auto reach = static_cast<float>(half + kSlack) * perCell;
+        const int r0 = std::max(0, floorOf(y - reach)), r1 = std::min(work.rows - 1, floorOf(y + reach));
+        const auto f = static_cast<float>(depth);
+        // Row by row, the cells with a pixel's centre within `reach` of the disc's centre (cell c's
+        // centres span c + margin .. c + 1 - margin): shows when one is not covered by a nearer sprite.
+        bool shows = false;
+        for (int r = r0; r <= r1 && !shows; ++r) {
+            const float dy = std::max(std::max(r + margin - y, y - (r + 1 - margin)), 0.0f);
+            if (dy > reach) continue;
+            const float w = std::sqrt(reach * reach - dy * dy);
+            const int c0 = std::max(0, ceilOf(x - w - 1.0f + margin));
+            const int c1 = std::min(work.columns - 1, floorOf(x + w - margin));
+            const float* row = &work.nearest[static_cast<std::size_t>(r) * work.columns];
+            for (int c = c0; c <= c1; ++c) shows = shows || !(row[c] < f);
+        }
+        if (!shows) continue;
+        visible.push_back(i);
+        if (2.0 * half > kLargestOccluder) continue;
+        // Mark the cells whose every pixel's centre lies inside the disc (less the slack).
+        const auto inner = static_cast<float>(half - kSlack) * perCell;
+        for (int r = r0; r <= r1; ++r) {
+            const float dy = std::max(std::abs(r + margin - y), std::abs(r + 1 - margin - y));
+            if (dy > inner) continue;
+            const float w = std::sqrt(inner * inner - dy * dy);
+            const int c0 = std::max(0, ceilOf(x - w - margin));
+            const int c1 = std::min(work.columns - 1, floorOf(x + w - margin - span));
+            float* row = &work.nearest[static_cast<std::size_t>(r) * work.columns];
+            for (int c = c0; c <= c1; ++c) row[c] = std::min(row[c], f);
+        }
+    }
 }
 
 Bounds fluidBounds(const Fluids& fluid) {

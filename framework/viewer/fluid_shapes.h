@@ -1,8 +1,8 @@
 // What the viewer draws of a fluid (worksheet 9), as geometry and colours without any GL: each
 // particle's colour by its density error or its speed, the tank walls around the fluid's container
 // (drawn as the container's glass box, not as the boxes that would hide the fluid), the particle a
-// ray picks, and the benchmark's fill of a container. The renderer turns these into one vertex
-// array of points; the tests check them.
+// ray picks, the particles whose sprites can show, and the benchmark's fill of a container. The
+// renderer turns these into one vertex array of points; the tests check them.
 #pragma once
 
 #include <cstddef>
@@ -37,6 +37,8 @@ void sequentialColour(double t, std::uint8_t rgba[4]);
 /// rho_i / rho0 - 1 from the fluid's last density computation (0 before there is one).
 double densityErrorOf(const Fluids& fluid, std::size_t i);
 
+/// Four bytes of particle i's colour, as fluidColours() gives it.
+void fluidColour(const Fluids& fluid, std::size_t i, FluidColouring colouring, double range, std::uint8_t rgba[4]);
 /// Four bytes per particle: density error over +-range (diverging) or speed over 0 .. range
 /// (sequential, range in m/s); range > 0.
 void fluidColours(const Fluids& fluid, FluidColouring colouring, double range, std::vector<std::uint8_t>& rgba);
@@ -51,6 +53,31 @@ bool isTankWall(const Body& body, const FluidBox& container);
 /// The fluid particle whose sphere (of the fluid's radius()) the ray enters first, and how far
 /// along the ray; nothing when it misses every one.
 std::optional<ParticleHit> pickFluidParticle(const Fluids& fluid, const Ray& ray);
+
+/// How wide (pixels) a particle's sprite is drawn: its sphere's width at the depth of its centre
+/// (m along the view), at least kSmallestSprite; pixelsPerMetre is at unit depth, the viewport's
+/// height / (2 tan(fovy / 2)). The renderer's point shader computes the same.
+constexpr double kSmallestSprite = 2.0;
+double spriteWidth(double radius, double depth, double pixelsPerMetre);
+
+/// A coarse depth buffer over the viewport, in square cells of a few pixels, each holding the
+/// depth (m along the view) of the nearest sprite known to cover the whole cell: the work space of
+/// visibleSprites(), kept from frame to frame so that its memory is reused.
+struct SpriteDepths {
+    int cell = 1;  ///< pixels on a side
+    int columns = 0, rows = 0;
+    std::vector<float> nearest;  ///< columns x rows, row 0 at the bottom
+};
+
+/// The particles of `order` whose sprites can show in a width x height viewport, in the order
+/// given; the others are left out. A sprite is drawn as the renderer's point sprites are: a disc
+/// as wide as spriteWidth(), every fragment at the depth of the particle's centre. A particle is
+/// left out when its disc lies wholly outside the viewport, or when every cell of `work` it touches
+/// is covered by a sprite kept before it that is strictly nearer: the depth test would then reject
+/// all of its fragments, so leaving it out changes no pixel. Nearest first leaves out the most (a
+/// block of fluid shows little more than its outer layers).
+void visibleSprites(const Camera& camera, const Fluids& fluid, int width, int height,
+                    const std::vector<std::uint32_t>& order, SpriteDepths& work, std::vector<std::uint32_t>& visible);
 
 /// The box the fluid's particles fill, grown by their radius (m); empty without particles.
 Bounds fluidBounds(const Fluids& fluid);

@@ -303,7 +303,7 @@ void Renderer::draw(const Session& session, const Camera& camera, int width, int
     }
     solid_.draw(GL_TRIANGLES);
     drawSoftBodies(session, options);
-    drawFluid(session, camera, height, options);
+    drawFluid(session, camera, width, height, options);
 
     // Springs (green), rods and chain links (dark grey), the container (a wire sphere).
     glDisable(GL_LIGHTING);

@@ -70,7 +70,7 @@ private:
     void drawSoftGhost(const Session& session);
     /// The fluid's particles in one call, coloured by options; the hovered and selected particle
     /// marked, the drag's line to the cursor.
-    void drawFluid(const Session& session, const Camera& camera, int height, const Options& options);
+    void drawFluid(const Session& session, const Camera& camera, int width, int height, const Options& options);
     /// The fluid's container: its edges, and its far faces as glass.
     void drawFluidContainer(const Session& session, const Camera& camera);
     /// The sprite program, compiled at the first use; false where GLSL is not available.
@@ -83,10 +83,15 @@ private:
     Mesh disc_;       ///< unit disc in the x-z plane
     Batch solid_, translucent_, shadows_, lines_, points_;
     std::vector<Vec3> normals_;  ///< a soft mesh's, per particle
-    std::vector<float> fluidPositions_;         ///< the fluid's, three per particle
-    std::vector<std::uint8_t> fluidColours_;    ///< the fluid's, four per particle
+    struct FluidVertex {
+        float position[3];
+        std::uint8_t colour[4];
+    };
+    std::vector<FluidVertex> fluidVertices_;    ///< the particles drawn, in fluidShown_'s order
     std::vector<std::uint32_t> fluidOrder_;     ///< the particles front to back (depthOrder())
-    std::vector<float> fluidDepths_;            ///< depthOrder()'s work space
+    std::vector<std::uint32_t> fluidShown_;     ///< those of fluidOrder_ that can show (visibleSprites())
+    SpriteDepths fluidDepths_;                  ///< visibleSprites()'s work space
+    std::vector<float> fluidKeys_;              ///< depthOrder()'s work space
     std::vector<std::size_t> fluidBuckets_;     ///< depthOrder()'s work space
     unsigned fluidProgram_ = 0;                 ///< GL program name, 0 when none
     bool fluidProgramTried_ = false;

@@ -1,9 +1,12 @@
-// The renderer's fluids (worksheet 9): every particle one point of one vertex array, drawn in one
-// call, front to back (under a software renderer the depth test then spares most of the hidden
-// particles' fragments: a block of fluid is mostly hidden). A small GLSL 1.20 program makes each point a sprite as wide on screen as the particle's
-// sphere and shades it as a sphere (lit by the scene's light, faded by its fog); where GLSL is not
-// available the points are round, flat and of one size. The fluid's container is drawn as a glass
-// box: its far faces translucent behind the fluid, its edges as lines.
+// The renderer's fluids (worksheet 9): the particles as points in one interleaved vertex array,
+// drawn in one call, front to back. A small GLSL 1.20 program makes each point a sprite as wide on
+// screen as the particle's sphere and shades it as a sphere (lit by the scene's light, faded by its
+// fog). A software renderer pays for every sprite it rasterises, hidden or not, so the sprites wholly
+// behind nearer ones are left out before drawing (visibleSprites(): a block of fluid shows little
+// more than its outer layers), and the rest go nearest first, so that the depth test spares the
+// hidden parts of those. Where GLSL is not available the points are round, flat, of one size and
+// all drawn. The fluid's container is drawn as a glass box: its far faces translucent behind the
+// fluid, its edges as lines.
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
 #include <GL/glext.h>
@@ -24,31 +27,36 @@ constexpr double kPi = 3.14159265358979323846;
 const char* const kVertexShader = R"(#version 120
 uniform float pixelsPerMetre;  // at unit depth: the viewport's height / (2 tan(fovy / 2))
 uniform float radius;          // m, the particle's
-varying vec4 colour;
+uniform float smallest;        // pixels, the narrowest sprite (kSmallestSprite)
+varying vec3 colour;
 varying float fog;
 void main() {
     vec4 eye = gl_ModelViewMatrix * gl_Vertex;
     gl_Position = gl_ProjectionMatrix * eye;
-    gl_PointSize = max(2.0, 2.0 * radius * pixelsPerMetre / max(-eye.z, 1e-3));
-    colour = gl_Color;
+    gl_PointSize = max(smallest, 2.0 * radius * pixelsPerMetre / max(-eye.z, 1e-3));  // spriteWidth()
+    colour = gl_Color.rgb;
     fog = clamp((gl_Fog.end - length(eye.xyz)) * gl_Fog.scale, 0.0, 1.0);
 }
 )";
 
 // The sprite as the front half of a sphere: its normal from where the fragment lies in the point,
-// diffuse light from the scene's directional light (already in eye space), a small highlight.
+// diffuse light from the scene's directional light (a unit vector in eye space), a small highlight
+// (Phong's, to the 24th power by squarings: the reflected light's z is 2 (n.l) n.z - l.z).
 const char* const kFragmentShader = R"(#version 120
-varying vec4 colour;
+uniform vec3 light;
+varying vec3 colour;
 varying float fog;
 void main() {
     vec2 q = 2.0 * gl_PointCoord - 1.0;
     float r2 = dot(q, q);
     if (r2 > 1.0) discard;
-    vec3 n = vec3(q.x, -q.y, sqrt(1.0 - r2));
-    vec3 l = normalize(gl_LightSource[0].position.xyz);
-    float diffuse = max(dot(n, l), 0.0);
-    float highlight = pow(max(reflect(-l, n).z, 0.0), 24.0);
-    vec3 c = colour.rgb * (0.45 + 0.65 * diffuse) + vec3(0.3 * highlight);
+    float z = sqrt(1.0 - r2);
+    float d = dot(vec3(q.x, -q.y, z), light);
+    float s = max(2.0 * d * z - light.z, 0.0);
+    s *= s;
+    s *= s;
+    s *= s;
+    vec3 c = colour * (0.45 + 0.65 * max(d, 0.0)) + vec3(0.3 * s * s * s);
     gl_FragColor = vec4(mix(gl_Fog.color.rgb, c, fog), 1.0);
 }
 )";
@@ -83,25 +91,25 @@ void Renderer::depthOrder(const Fluids& fluid, const Camera& camera) {
     constexpr std::size_t kBuckets = 1024;
     const std::size_t n = fluid.size();
     const Vec3 eye = camera.eye(), forward = camera.forward();
-    fluidDepths_.resize(n);
+    fluidKeys_.resize(n);
     float nearest = HUGE_VALF, farthest = -HUGE_VALF;
     for (std::size_t i = 0; i < n; ++i) {
         const auto d = static_cast<float>((fluid.x[i] - eye).dot(forward));
-        fluidDepths_[i] = d;
+        fluidKeys_[i] = d;
         nearest = std::min(nearest, d), farthest = std::max(farthest, d);
     }
     const float scale = farthest > nearest ? (kBuckets - 1) / (farthest - nearest) : 0.0f;
     fluidBuckets_.assign(kBuckets + 1, 0);
     for (std::size_t i = 0; i < n; ++i) {
-        const float at = (fluidDepths_[i] - nearest) * scale;  // not finite for a particle that is not
+        const float at = (fluidKeys_[i] - nearest) * scale;  // not finite for a particle that is not
         const std::size_t b = at >= 0.0f && at < float(kBuckets) ? static_cast<std::size_t>(at) : 0;
-        fluidDepths_[i] = static_cast<float>(b);  // kept as the bucket's number
+        fluidKeys_[i] = static_cast<float>(b);  // kept as the bucket's number
         ++fluidBuckets_[b + 1];
     }
     for (std::size_t b = 1; b <= kBuckets; ++b) fluidBuckets_[b] += fluidBuckets_[b - 1];
     fluidOrder_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        fluidOrder_[fluidBuckets_[static_cast<std::size_t>(fluidDepths_[i])]++] = static_cast<std::uint32_t>(i);
+        fluidOrder_[fluidBuckets_[static_cast<std::size_t>(fluidKeys_[i])]++] = static_cast<std::uint32_t>(i);
     }
 }
 
@@ -129,33 +137,51 @@ bool Renderer::fluidProgramReady() {
     return true;
 }
 
-void Renderer::drawFluid(const Session& session, const Camera& camera, int height, const Options& options) {
+void Renderer::drawFluid(const Session& session, const Camera& camera, int width, int height, const Options& options) {
     const Fluids& fluid = session.engine().fluids();
     if (fluid.empty()) return;
     const double pixelsPerMetre = height / (2.0 * std::tan(Camera::kFieldOfViewY * kPi / 360.0));
-
-    // One vertex array: positions as floats, a colour per particle.
     const std::size_t n = fluid.size();
-    fluidPositions_.resize(3 * n);
-    for (std::size_t i = 0; i < n; ++i) {
-        for (int k = 0; k < 3; ++k) fluidPositions_[3 * i + k] = static_cast<float>(fluid.x[i][k]);
+    depthOrder(fluid, camera);
+    const bool sprites = fluidProgramReady();
+    // Sprites: only those that can show (a block of fluid hides most of its particles). Flat points
+    // are all of one size, not the size visibleSprites() takes: all of them.
+    if (sprites) visibleSprites(camera, fluid, width, height, fluidOrder_, fluidDepths_, fluidShown_);
+    const std::vector<std::uint32_t>& shown = sprites ? fluidShown_ : fluidOrder_;
+
+    // One interleaved vertex array of the particles drawn, nearest first: a position as three
+    // floats and a colour as four bytes.
+    fluidVertices_.resize(shown.size());
+    for (std::size_t k = 0; k < shown.size(); ++k) {
+        FluidVertex& v = fluidVertices_[k];
+        const Vec3& q = fluid.x[shown[k]];
+        v.position[0] = static_cast<float>(q.x()), v.position[1] = static_cast<float>(q.y());
+        v.position[2] = static_cast<float>(q.z());
+        fluidColour(fluid, shown[k], options.fluidColouring, options.fluidRange, v.colour);
     }
-    fluidColours(fluid, options.fluidColouring, options.fluidRange, fluidColours_);
+    const auto count = static_cast<GLsizei>(shown.size());
 
     glDisable(GL_LIGHTING);
     glEnableClientState(GL_VERTEX_ARRAY);
     glEnableClientState(GL_COLOR_ARRAY);
-    glVertexPointer(3, GL_FLOAT, 0, fluidPositions_.data());
-    glColorPointer(4, GL_UNSIGNED_BYTE, 0, fluidColours_.data());
-    depthOrder(fluid, camera);
-    const auto count = static_cast<GLsizei>(n);
-    if (fluidProgramReady()) {
+    glVertexPointer(3, GL_FLOAT, sizeof(FluidVertex), fluidVertices_.data()->position);
+    glColorPointer(4, GL_UNSIGNED_BYTE, sizeof(FluidVertex), fluidVertices_.data()->colour);
+    if (sprites) {
         glEnable(GL_VERTEX_PROGRAM_POINT_SIZE);
         glEnable(GL_POINT_SPRITE);  // gl_PointCoord in a compatibility context
         glUseProgram(fluidProgram_);
         glUniform1f(glGetUniformLocation(fluidProgram_, "pixelsPerMetre"), static_cast<float>(pixelsPerMetre));
         glUniform1f(glGetUniformLocation(fluidProgram_, "radius"), static_cast<float>(fluid.radius()));
-        glDrawElements(GL_POINTS, count, GL_UNSIGNED_INT, fluidOrder_.data());
+        glUniform1f(glGetUniformLocation(fluidProgram_, "smallest"), static_cast<float>(kSmallestSprite));
+        // The scene's light in eye space (GL keeps its direction as transformed when it was set).
+        float light[4] = {0.0f, 0.0f, 1.0f, 0.0f};
+        glGetLightfv(GL_LIGHT0, GL_POSITION, light);
+        const float length = std::sqrt(light[0] * light[0] + light[1] * light[1] + light[2] * light[2]);
+        if (length > 0.0f) {
+            glUniform3f(glGetUniformLocation(fluidProgram_, "light"), light[0] / length, light[1] / length,
+                        light[2] / length);
+        }
+        glDrawArrays(GL_POINTS, 0, count);
         glUseProgram(0);
         glDisable(GL_POINT_SPRITE);
         glDisable(GL_VERTEX_PROGRAM_POINT_SIZE);
@@ -164,7 +190,7 @@ void Renderer::drawFluid(const Session& session, const Camera& camera, int heigh
         const double pixels = 2.0 * fluid.radius() * pixelsPerMetre / std::max(camera.distance(), 1e-3);
         glEnable(GL_POINT_SMOOTH);
         glPointSize(static_cast<float>(std::clamp(pixels, 2.0, 32.0)));
-        glDrawElements(GL_POINTS, count, GL_UNSIGNED_INT, fluidOrder_.data());
+        glDrawArrays(GL_POINTS, 0, count);
         glDisable(GL_POINT_SMOOTH);
         glPointSize(1.0f);
     }

@@ -3,6 +3,7 @@
 // and the session that keys and mouse drive.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "camera.h"
@@ -804,6 +805,72 @@ TEST(FluidShapes, TheBenchmarksFillKeepsOutOfTheBallAndStaysInTheContainer) {
     EXPECT_GT(all, 24u * 40u * 24u - 1000u) << "a ball of 0.12 m and half a spacing around it hold about 620 lattice points";
     Fluids none;
     EXPECT_EQ(fillContainer(none, e.bodies(), 10), 0u) << "no container, nothing to fill";
+}
+
+// For every pixel of a width x height view, the particle whose sprite is in front there: of the
+// sprites (discs of spriteWidth() about each particle's projection) that hold the pixel's centre,
+// the one of the nearest centre, as the depth test decides. -1 where there is none.
+std::vector<long> frontSprites(const Camera& camera, const Fluids& f, int width, int height) {
+    const double pixelsPerMetre = 0.5 * height / std::tan(Camera::kFieldOfViewY * 3.14159265358979323846 / 360.0);
+    std::vector<long> front(static_cast<std::size_t>(width) * height, -1);
+    std::vector<double> nearest(front.size(), HUGE_VAL);
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        double x, y;
+        if (!camera.project(f.x[i], width, height, x, y)) continue;
+        const double depth = (f.x[i] - camera.eye()).dot(camera.forward());
+        const double half = 0.5 * spriteWidth(f.radius(), depth, pixelsPerMetre);
+        for (int py = std::max(0, int(y - half) - 1); py < std::min(height, int(y + half) + 2); ++py) {
+            for (int px = std::max(0, int(x - half) - 1); px < std::min(width, int(x + half) + 2); ++px) {
+                const double dx = px + 0.5 - x, dy = py + 0.5 - y;
+                const std::size_t at = static_cast<std::size_t>(py) * width + px;
+                if (dx * dx + dy * dy <= half * half && depth < nearest[at]) nearest[at] = depth, front[at] = long(i);
+            }
+        }
+    }
+    return front;
+}
+
+TEST(FluidShapes, OnlySpritesHiddenBehindNearerOnesAreLeftOut) {
+    PhysicsEngine e;
+    load(e, scenes().find("pour-onto-sphere"));
+    Fluids& f = e.fluids();
+    ASSERT_EQ(fillContainer(f, e.bodies(), 20000), 20000u);
+    const int width = 920, height = 720;  // the default window's view beside the panel
+    Camera camera;
+    const Vec3 centre = 0.5 * (f.container()->lower + f.container()->upper);
+    for (const double turn : {0.0, 140.0}) {  // pixels of orbit: head-on to the tank's front, and askew
+        camera.lookAt(centre, 1.9);           // the tank fills most of the view's height
+        camera.orbit(turn, 0.0);
+        std::vector<std::uint32_t> order(f.size());
+        for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+        const auto depth = [&](std::uint32_t i) { return (f.x[i] - camera.eye()).dot(camera.forward()); };
+        std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return depth(a) < depth(b); });
+        SpriteDepths work;
+        std::vector<std::uint32_t> visible;
+        visibleSprites(camera, f, width, height, order, work, visible);
+        // Every particle in front somewhere is kept: leaving out the others changes no pixel.
+        std::vector<bool> kept(f.size(), false);
+        for (std::uint32_t i : visible) kept[i] = true;
+        std::size_t seen = 0;
+        std::vector<bool> counted(f.size(), false);
+        for (long i : frontSprites(camera, f, width, height)) {
+            if (i < 0 || counted[i]) continue;
+            counted[i] = true, ++seen;
+            EXPECT_TRUE(kept[i]) << "particle " << i << " shows at some pixel but is left out (turn " << turn << ")";
+        }
+        // The kept ones in the order given, and most of a block of fluid left out: it shows its outer layers.
+        EXPECT_TRUE(std::is_sorted(visible.begin(), visible.end(),
+                                   [&](std::uint32_t a, std::uint32_t b) { return depth(a) < depth(b); }));
+        EXPECT_LT(visible.size(), f.size() / 2) << "turn " << turn;
+        EXPECT_GE(visible.size(), seen);
+    }
+    // Out of the view: nothing drawn, so nothing kept.
+    camera.lookAt(centre + Vec3(50.0, 0.0, 0.0), 1.9);
+    SpriteDepths work;
+    std::vector<std::uint32_t> all(f.size()), visible;
+    for (std::uint32_t i = 0; i < all.size(); ++i) all[i] = i;
+    visibleSprites(camera, f, width, height, all, work, visible);
+    EXPECT_TRUE(visible.empty());
 }
 
 TEST(SessionFluid, AParticleIsPickedThroughTheTanksFrontWallAndDraggedTheFluidMakingWay) {
