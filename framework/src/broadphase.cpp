@@ -40,12 +40,6 @@ bool overlap(const Aabb& boxP, const Aabb& boxQ, const Ball& ballP, const Ball& 
     return overlap(boxP, boxQ);
 }
 
-// The brute force's pair test (filterKept() makes the same on its kept pairs).
-bool mayTouch(const Body& p, const Body& q, double margin) {
-    if (p.isStatic() && q.isStatic()) return false;
-    return overlap(boundingBox(p, margin), boundingBox(q, margin), ballOf(p, margin), ballOf(q, margin));
-}
-
 }  // namespace
 
 Aabb boundingBox(const Body& b, double margin) {
@@ -379,6 +373,15 @@ void BroadPhase::testNeighbours(std::size_t first, std::size_t last, std::vector
 int BroadPhase::defaultThreads() { return std::thread::hardware_concurrency() >= 2 ? 2 : 1; }
 
 std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies, double margin) {
+    // Every body's bounding volumes once, then every pair of bodies.
+    std::vector<Aabb> boxes;
+    std::vector<Ball> balls;
+    boxes.reserve(bodies.size());
+    balls.reserve(bodies.size());
+    for (const Body& b : bodies) {
+        boxes.push_back(boundingBox(b, margin));
+        balls.push_back(ballOf(b, margin));
+    }
     std::vector<BodyPair> pairs;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         for (std::size_t j = i + 1; j < bodies.size(); ++j) {
@@ -388,12 +391,13 @@ std::vector<BodyPair> bruteForcePairs(const std::vector<Body>& bodies, double ma
             if (planeP && planeQ) continue;
             if (planeP || planeQ) {
                 const Body& plane = planeP ? p : q;
-                const Body& other = planeP ? q : p;
-                if (!other.isStatic() && reachesPlane(boundingBox(other, margin), plane.position, planeNormal(plane)))
+                const std::size_t other = planeP ? j : i;
+                if (!bodies[other].isStatic() && reachesPlane(boxes[other], plane.position, planeNormal(plane)))
                     pairs.push_back({i, j});
                 continue;
             }
-            if (mayTouch(p, q, margin)) pairs.push_back({i, j});
+            if (p.isStatic() && q.isStatic()) continue;
+            if (overlap(boxes[i], boxes[j], balls[i], balls[j])) pairs.push_back({i, j});
         }
     }
     return pairs;
