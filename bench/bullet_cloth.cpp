@@ -109,12 +109,12 @@ study::DropRun bulletDropOnSphere(const study::SphereDrop& drop) {
         for (int i = 0; i < body.m_nodes.size(); ++i) now[i] = vec(body.m_nodes[i].m_x);
     };
     for (long s = 0; s < steps; ++s) {
-        const double cpu = study::threadCpuMs();
+        const double cpu = study::processCpuMs();
         const auto begin = std::chrono::steady_clock::now();
         world.stepSimulation(drop.h, 1, drop.h);
         run.stepMs.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin).count());
-        run.cpuMs.push_back(study::threadCpuMs() - cpu);
+        run.cpuMs.push_back(study::processCpuMs() - cpu);
         read();
         run.deepest = std::max(run.deepest, study::penetration(now, drop));
     }

@@ -92,8 +92,8 @@ if (have('cloth-cost.dat') || have('cloth-bullet.dat')) {
         set style fill solid 0.85 border -1
         set boxwidth 0.9
         set format x '%g'
-        plot data using 2:xtic(1) lc 1 fs pattern 3 title columnheader(2), \
-             data using 3 lc 2 fs pattern 5 title columnheader(3)
+        # Bullet, then this engine on each thread count the study ran.
+        plot for [c=2:*] data using c:xtic(1) lc (c - 1) fs pattern (2 * c - 1) title columnheader(c)
     }
     unset multiplot
 }

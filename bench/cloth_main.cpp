@@ -178,8 +178,10 @@ void flagPart(Output& output) {
     }
 }
 
-// 4. The same cloth dropped on a sphere in both engines, taking turns.
-void bulletPart(Output& output, const std::vector<int>& sizes, int runs, bool bullet, const std::string& without) {
+// 4. The same cloth dropped on a sphere in both engines, taking turns: in each round this engine
+// on each thread count, then Bullet.
+void bulletPart(Output& output, const std::vector<int>& sizes, const std::vector<int>& threadCounts, int runs,
+                bool bullet, const std::string& without) {
     gpl::study::SphereDrop drop;
     std::cout << "\n4. beside Bullet: a cloth " << drop.side << " m square, " << drop.mass << " kg, flat, centred "
               << drop.drop << " m above a static sphere of radius " << drop.sphereRadius << " m and friction "
@@ -187,56 +189,72 @@ void bulletPart(Output& output, const std::vector<int>& sizes, int runs, bool bu
               << ", dropped on it, nothing pinned, every link rigid (XPBD, compliance 0), particle radius "
               << drop.radius << " m, h = 1/" << fixed(1.0 / drop.h, 0) << " s, " << drop.iterations << " iterations, "
               << drop.seconds << " s; "
-              << (bullet ? "each engine " + std::to_string(runs) +
-                               " runs taking turns, the median of the runs' median step times"
+              << (bullet ? std::to_string(runs) +
+                               " rounds, each running this engine on each thread count and then Bullet, the median "
+                               "of the runs' median step times"
                          : "this engine only (" + without + ")")
-              << "; CPU ratio: the same with each step's CPU time, which leaves out the time other programs had the "
-              << "core; stretch: the grid's links at the end, the largest / the mean; depth: the deepest a particle's "
-              << "sphere lay inside the rigid sphere over the run; both measured alike from the particles' positions\n";
+              << "; CPU ratio: the same with each step's CPU time, every thread's, which leaves out the time other "
+              << "programs had the cores; stretch: the grid's links at the end, the largest / the mean; depth: the "
+              << "deepest a particle's sphere lay inside the rigid sphere over the run; both measured alike from the "
+              << "particles' positions\n";
     if (bullet) std::cout << gpl::bench::bulletClothSettings() << '\n';
-    std::cout << "this engine runs the soft bodies' four parts on one thread, as Bullet does\n";
-    const std::vector<std::size_t> widths{11, 9, 11, 7, 10, 9, 22, 22, 13, 13};
-    row({"n x n", "ours ms", "Bullet ms", "ratio", "CPU ratio", "target", "stretch ours", "stretch Bullet",
+    std::cout << "threads: this engine's (SoftBodies::setThreads(); two sweep a large cloth's halves at once, with the "
+              << "same result as one); Bullet's soft bodies run on one\n";
+    const std::vector<std::size_t> widths{11, 8, 9, 11, 7, 10, 9, 22, 22, 13, 13};
+    row({"n x n", "threads", "ours ms", "Bullet ms", "ratio", "CPU ratio", "target", "stretch ours", "stretch Bullet",
          "depth ours m", "depth Bullet m"},
         widths);
     auto csv = output.open("cloth-bullet.csv");
-    csv << "n,engine,runs,median_ms_per_step,median_cpu_ms_per_step,largest_stretch,mean_stretch,deepest_penetration_m,"
-           "finite\n";
+    csv << "n,engine,threads,runs,median_ms_per_step,median_cpu_ms_per_step,largest_stretch,mean_stretch,"
+           "deepest_penetration_m,finite\n";
     auto dat = output.open("cloth-bullet.dat");
-    dat << "cloth \"this engine\" \"Bullet\"\n";
+    dat << "cloth \"Bullet\"";
+    for (int t : threadCounts) dat << " \"this engine, " << t << (t == 1 ? " thread" : " threads") << '"';
+    dat << '\n';
+    const std::string dash = "-";
     for (int n : sizes) {
         drop.n = n;
-        std::vector<double> ours, oursCpu, theirs, theirsCpu;
-        gpl::study::DropRun mine, other;
+        std::vector<std::vector<double>> ours(threadCounts.size()), oursCpu(threadCounts.size());
+        std::vector<double> theirs, theirsCpu;
+        std::vector<gpl::study::DropRun> mine(threadCounts.size());
+        gpl::study::DropRun other;
         for (int r = 0; r < runs; ++r) {
-            mine = gpl::study::dropOnSphere(drop);
-            ours.push_back(mine.medianMs);
-            oursCpu.push_back(mine.medianCpuMs);
+            for (std::size_t t = 0; t < threadCounts.size(); ++t) {
+                drop.threads = threadCounts[t];
+                mine[t] = gpl::study::dropOnSphere(drop);
+                ours[t].push_back(mine[t].medianMs);
+                oursCpu[t].push_back(mine[t].medianCpuMs);
+            }
             if (bullet) {
                 other = gpl::bench::bulletDropOnSphere(drop);
                 theirs.push_back(other.medianMs);
                 theirsCpu.push_back(other.medianCpuMs);
             }
         }
-        const double oursMs = gpl::study::median(ours), oursCpuMs = gpl::study::median(oursCpu);
         const double theirMs = bullet ? gpl::study::median(theirs) : std::nan("");
         const double theirCpuMs = bullet ? gpl::study::median(theirsCpu) : std::nan("");
-        const double ratio = oursMs / theirMs;
-        const std::string dash = "-";
-        row({std::to_string(n) + " x " + std::to_string(n), fixed(oursMs, 2), bullet ? fixed(theirMs, 2) : dash,
-             bullet ? fixed(ratio, 2) : dash, bullet ? fixed(oursCpuMs / theirCpuMs, 2) : dash,
-             bullet ? (ratio <= kTarget ? "met" : "NOT met") : dash,
-             stretchCell(mine.finite, mine.largestStretch, mine.meanStretch),
-             bullet ? stretchCell(other.finite, other.largestStretch, other.meanStretch) : dash, sci(mine.deepest),
-             bullet ? sci(other.deepest) : dash},
-            widths);
-        csv << n << ",ours," << runs << ',' << oursMs << ',' << oursCpuMs << ',' << mine.largestStretch << ','
-            << mine.meanStretch << ',' << mine.deepest << ',' << mine.finite << '\n';
         if (bullet) {
-            csv << n << ",Bullet," << runs << ',' << theirMs << ',' << theirCpuMs << ',' << other.largestStretch << ','
-                << other.meanStretch << ',' << other.deepest << ',' << other.finite << '\n';
+            csv << n << ",Bullet,1," << runs << ',' << theirMs << ',' << theirCpuMs << ',' << other.largestStretch
+                << ',' << other.meanStretch << ',' << other.deepest << ',' << other.finite << '\n';
         }
-        dat << n << 'x' << n << ' ' << oursMs << ' ' << theirMs << '\n';
+        dat << n << 'x' << n << ' ' << theirMs;
+        for (std::size_t t = 0; t < threadCounts.size(); ++t) {
+            const gpl::study::DropRun& m = mine[t];
+            const double oursMs = gpl::study::median(ours[t]), oursCpuMs = gpl::study::median(oursCpu[t]);
+            const double ratio = oursMs / theirMs;
+            row({std::to_string(n) + " x " + std::to_string(n), std::to_string(threadCounts[t]), fixed(oursMs, 2),
+                 bullet ? fixed(theirMs, 2) : dash, bullet ? fixed(ratio, 2) : dash,
+                 bullet ? fixed(oursCpuMs / theirCpuMs, 2) : dash,
+                 bullet ? (ratio <= kTarget ? "met" : "NOT met") : dash,
+                 stretchCell(m.finite, m.largestStretch, m.meanStretch),
+                 bullet ? stretchCell(other.finite, other.largestStretch, other.meanStretch) : dash, sci(m.deepest),
+                 bullet ? sci(other.deepest) : dash},
+                widths);
+            csv << n << ",ours," << threadCounts[t] << ',' << runs << ',' << oursMs << ',' << oursCpuMs << ','
+                << m.largestStretch << ',' << m.meanStretch << ',' << m.deepest << ',' << m.finite << '\n';
+            dat << ' ' << oursMs;
+        }
+        dat << '\n';
     }
     std::cout << "target: this engine's time per step at most " << kTarget << " of Bullet's" << std::endl;
 }
@@ -250,6 +268,7 @@ int main(int argc, char** argv) {
     bool skipBullet = false;
     int runs = 3;
     std::vector<int> sizes{64, 128};
+    std::vector<int> threadCounts{1, 2};
     std::string partList = "stretch,cost,flag,bullet";
     app.add_option("--out", out, "folder for the CSV files and the plots' data (default build/cloth)");
     app.add_option("--parts", partList, "parts to run, separated by commas: stretch, cost, flag, bullet (default all)")
@@ -261,6 +280,9 @@ int main(int argc, char** argv) {
         }));
     app.add_option("--sizes", sizes, "particles along a side of the dropped cloth (default 64 128)")
         ->check(gpl::cli::wholeNumber(2, 1024));
+    app.add_option("--threads", threadCounts,
+                   "this engine's thread counts on the dropped cloth, each run in every round (default 1 2)")
+        ->check(gpl::cli::wholeNumber(1, 2));
     app.add_option("--runs", runs, "runs of each engine on each drop, taking turns; the median is kept (default 3)")
         ->check(gpl::cli::wholeNumber(1, 99));
     app.add_flag("--no-bullet", skipBullet, "this engine only");
@@ -283,7 +305,7 @@ int main(int argc, char** argv) {
         if (wanted("cost")) costPart(output);
         if (wanted("flag")) flagPart(output);
         if (wanted("bullet")) {
-            bulletPart(output, sizes, runs, bullet, skipBullet ? "--no-bullet" : "built without Bullet");
+            bulletPart(output, sizes, threadCounts, runs, bullet, skipBullet ? "--no-bullet" : "built without Bullet");
         }
         std::cout << "\nwrote";
         for (const std::string& f : output.written()) std::cout << ' ' << out << '/' << f;

@@ -127,6 +127,7 @@ Settled settleHanging(const ClothSpec& spec, double h, int iterations, const Set
 
 StepCost measureStepCost(const ClothSpec& spec, double h, int iterations, int steps) {
     SoftBodies soft;
+    soft.setThreads(1);  // each part's time is this thread's
     soft.addCloth(spec);
     const std::vector<Body> none;
     StepCost cost;
@@ -250,6 +251,12 @@ double threadCpuMs() {
     return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
 }
 
+double processCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
+}
+
 double median(std::vector<double> values) {
     if (values.empty()) return std::nan("");
     const auto mid = values.begin() + static_cast<long>(values.size() / 2);
@@ -259,6 +266,7 @@ double median(std::vector<double> values) {
 
 DropRun dropOnSphere(const SphereDrop& d) {
     SoftBodies soft;
+    soft.setThreads(d.threads);
     soft.addCloth(sphereDropSpec(d));
     const std::vector<Body> bodies{dropSphere(d)};
     const std::vector<DistanceLink> links = stretchLinks(soft);
@@ -266,11 +274,11 @@ DropRun dropOnSphere(const SphereDrop& d) {
     DropRun run;
     run.stepMs.reserve(steps);
     for (long s = 0; s < steps; ++s) {
-        const double cpu = threadCpuMs();
+        const double cpu = processCpuMs();
         const auto begin = Clock::now();
         step(soft, bodies, d.h, d.iterations, kGravity, s * d.h);
         run.stepMs.push_back(nsSince(begin) * 1e-6);
-        run.cpuMs.push_back(threadCpuMs() - cpu);
+        run.cpuMs.push_back(processCpuMs() - cpu);
         run.deepest = std::max(run.deepest, penetration(soft.x, d));
     }
     run.finite = soft.allFinite();

@@ -63,7 +63,7 @@ struct ChainStretch {
 };
 ChainStretch chainStretch(int n, double side, double mass, double compliance, double g = 9.81);
 
-/// What a step costs: the thread's CPU time in each of the four parts (median over the steps, ns;
+/// What a step costs on one thread: the thread's CPU time in each of the four parts (median over the steps, ns;
 /// the time other programs had the core is left out), the constraints projected (links), and the
 /// ns per projection: the projection part's time over iterations x links.
 struct StepCost {
@@ -122,6 +122,7 @@ struct SphereDrop {
     double h = 1.0 / 60.0;
     int iterations = 10;
     double seconds = 2.0;
+    int threads = 1;  ///< this engine's, SoftBodies::setThreads(); Bullet's soft bodies run on one
 };
 ClothSpec sphereDropSpec(const SphereDrop& d);
 Body dropSphere(const SphereDrop& d);
@@ -131,7 +132,7 @@ Body dropSphere(const SphereDrop& d);
 /// inside the rigid sphere over the run.
 struct DropRun {
     std::vector<double> stepMs;  ///< wall time of each step
-    std::vector<double> cpuMs;   ///< the thread's CPU time of each step: the wall time less what other programs took
+    std::vector<double> cpuMs;   ///< the program's CPU time of each step, every thread's: not what other programs took
     double medianMs = 0.0, medianCpuMs = 0.0;
     double largestStretch = 0.0;  ///< relative, stretch links, at the end
     double meanStretch = 0.0;
@@ -147,5 +148,7 @@ void linkStretch(const std::vector<Vec3>& x, const std::vector<DistanceLink>& li
 double median(std::vector<double> values);
 /// The calling thread's CPU time so far (ms).
 double threadCpuMs();
+/// This program's CPU time so far, all its threads' (ms).
+double processCpuMs();
 
 }  // namespace gpl::study

@@ -5,9 +5,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <stdexcept>
+#include <string>
+#include <thread>
 
 #include "gpl/soft_bodies.h"
 #include "gpl/soft_constraints.h"
+#include "gpl/soft_sweeps.h"
 
 namespace gpl {
 namespace {
@@ -56,6 +60,13 @@ std::uint32_t hashBucket(int cx, int cy, int cz, std::uint32_t buckets) {
 }
 
 }  // namespace
+
+int SoftBodies::defaultThreads() { return std::thread::hardware_concurrency() >= 2 ? 2 : 1; }
+
+void SoftBodies::setThreads(int threads) {
+    if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+    threads_ = threads < 2 ? 1 : 2;
+}
 
 Vec3 SoftBodies::windAt(double t, const Vec3& q) const {
     const double speed = wind_.norm();
@@ -182,6 +193,9 @@ void SoftBodies::collectSelfPairs(const SoftMesh& mesh, double travel) {
 }
 
 void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodies) {
+    // The second thread, if a mesh's halves are to be swept on it, woken to spin while this one prepares.
+    const auto cut = [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; };
+    if (threads_ > 1 && std::any_of(meshes.begin(), meshes.end(), cut)) second_.wake();
     for (DistanceLink& link : links) link.lambda = 0.0;
     for (TetVolume& volume : volumes) volume.lambda = 0.0;
     for (ParticleContact& c : contacts) {
@@ -191,11 +205,18 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
     }
     for (int iteration = 0; iteration < iterations; ++iteration) {
         for (const SoftMesh& mesh : meshes) {
+            // A mesh cut in halves, on two threads: the halves' links swept at once (soft_sweeps.h),
+            // the same kernel on each, with the result of the loops below to the bit; then the rest.
+            std::uint32_t firstLink = mesh.firstLink;
+            if (threads_ > 1 && mesh.firstHalfLinks > 0) {
+                sweepHalves(mesh, links, p, w, h, iterations, second_);
+                firstLink += mesh.firstHalfLinks + mesh.secondHalfLinks;
+            }
             const std::uint32_t lastLink = mesh.firstLink + mesh.linkCount;
             const std::uint32_t lastVolume = mesh.firstVolume + mesh.volumeCount;
             if (mesh.method == SoftMethod::XPBD) {
                 // XPBD: each constraint with its compliance, its multiplier summed over the sweeps.
-                for (std::uint32_t k = mesh.firstLink; k < lastLink; ++k) {
+                for (std::uint32_t k = firstLink; k < lastLink; ++k) {
                     DistanceLink& link = links[k];
                     const DistanceCorrection c = solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j],
                                                                          link.rest, link.compliance, h, link.lambda);
@@ -223,7 +244,7 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
                     }
                     return perSweep;
                 };
-                for (std::uint32_t k = mesh.firstLink; k < lastLink; ++k) {
+                for (std::uint32_t k = firstLink; k < lastLink; ++k) {
                     const DistanceLink& link = links[k];
                     const double share = sweepShare(link.stiffness);
                     const DistanceCorrection c =

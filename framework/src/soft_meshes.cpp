@@ -7,6 +7,7 @@
 
 #include "gpl/soft_bodies.h"
 #include "gpl/soft_constraints.h"
+#include "gpl/soft_sweeps.h"
 
 namespace gpl {
 namespace {
@@ -33,6 +34,23 @@ void requireStiffness(const char* kind, const std::string& name, double value) {
 
 void requireFinitePoint(const char* kind, const std::string& name, const char* field, const Vec3& q) {
     if (!isFinite(q)) badMesh(kind, name, std::string(field) + " must be finite");
+}
+
+// 0 .. count - 1 in order.
+std::vector<int> inOrder(int count) {
+    std::vector<int> out(count);
+    for (int k = 0; k < count; ++k) out[k] = k;
+    return out;
+}
+
+// 0 .. count - 1 from both ends towards the middle: 0, count - 1, 1, count - 2, ...
+std::vector<int> fromBothEdges(int count) {
+    std::vector<int> out;
+    for (int low = 0, high = count - 1; low <= high; ++low, --high) {
+        out.push_back(low);
+        if (high != low) out.push_back(high);
+    }
+    return out;
 }
 
 DistanceLink linkBetween(const std::vector<Vec3>& x, std::uint32_t i, std::uint32_t j, LinkKind kind,
@@ -191,12 +209,15 @@ std::vector<std::uint32_t> sweepOrder(const std::vector<DistanceLink>& links, st
 }
 
 std::size_t SoftBodies::addMesh(SoftMesh mesh) {
-    // The mesh's links stored in sweep order (sweepOrder()): the sweeps' results are those of the
-    // order they were built in, to the bit.
+    // The mesh's links stored in sweep order (sweepOrder()), a large mesh's in two halves and a seam
+    // (halvesOrder()): links that share a particle keep the order they were built in, but for the
+    // seam's, which come after the halves'.
     const auto first = links.begin() + mesh.firstLink;
     const std::vector<DistanceLink> built(first, first + mesh.linkCount);
-    const std::vector<std::uint32_t> order = sweepOrder(built, x.size());
-    for (std::size_t k = 0; k < order.size(); ++k) first[static_cast<std::ptrdiff_t>(k)] = built[order[k]];
+    const HalvesOrder stored = halvesOrder(built, mesh.first + mesh.count / 2, x.size());
+    for (std::size_t k = 0; k < stored.order.size(); ++k) first[static_cast<std::ptrdiff_t>(k)] = built[stored.order[k]];
+    mesh.firstHalfLinks = stored.first;
+    mesh.secondHalfLinks = stored.second;
     meshes.push_back(std::move(mesh));
     force_.resize(x.size(), Vec3::Zero());
     return meshes.size() - 1;
@@ -262,11 +283,19 @@ std::size_t SoftBodies::addCloth(const ClothSpec& spec) {
     for (int j = 0; j < ny; ++j)
         for (int i = 0; i + 1 < nx; ++i)
             links.push_back(linkBetween(x, id(i, j), id(i + 1, j), LinkKind::Stretch, spec.stretchCompliance, k));
-    for (int j = 0; j + 1 < ny; ++j)
+    // Rows that link a row to the next, and rows of cells, top to bottom; a cloth large enough to be
+    // cut in halves (soft_sweeps.h), from both edges towards the middle, so that both halves wait
+    // alike for the links across the middle.
+    const long linkCount = static_cast<long>(nx - 1) * ny + static_cast<long>(nx) * (ny - 1) +
+                           2L * (nx - 1) * (ny - 1) + static_cast<long>(nx - 1) * (ny - 2) +
+                           static_cast<long>(nx - 2) * (ny - 1);
+    const bool halves = linkCount >= kHalvesFrom;
+    const std::vector<int> rowPairs = halves ? fromBothEdges(ny - 1) : inOrder(ny - 1);
+    for (const int j : rowPairs)
         for (int i = 0; i < nx; ++i)
             links.push_back(linkBetween(x, id(i, j), id(i, j + 1), LinkKind::Stretch, spec.stretchCompliance, k));
     // Shear: both diagonals of every cell.
-    for (int j = 0; j + 1 < ny; ++j) {
+    for (const int j : rowPairs) {
         for (int i = 0; i + 1 < nx; ++i) {
             links.push_back(linkBetween(x, id(i, j), id(i + 1, j + 1), LinkKind::Shear, spec.shearCompliance, k));
             links.push_back(linkBetween(x, id(i + 1, j), id(i, j + 1), LinkKind::Shear, spec.shearCompliance, k));
@@ -304,6 +333,13 @@ std::size_t SoftBodies::addCloth(const ClothSpec& spec) {
         const int ib = static_cast<int>(b - first) % nx, jb = static_cast<int>(b - first) / nx;
         return ia == ib || ja == jb;  // not a cell's diagonal
     };
+    // The inner edges by their (first) particle's row, in the order of the rows above.
+    const std::vector<int> rows = halves ? fromBothEdges(ny) : inOrder(ny);
+    std::vector<int> rank(ny);
+    for (int r = 0; r < ny; ++r) rank[rows[r]] = r;
+    const auto row = [&](const EdgeOpposite& e) { return rank[static_cast<int>(e.a - first) / nx]; };
+    std::stable_sort(edges.begin(), edges.end(),
+                     [&](const EdgeOpposite& l, const EdgeOpposite& r) { return row(l) < row(r); });
     for (std::size_t e = 0; e + 1 < edges.size(); ++e) {
         const EdgeOpposite& one = edges[e];
         const EdgeOpposite& other = edges[e + 1];

@@ -14,6 +14,7 @@
 #include "allocation_counter.h"
 #include "gpl/scenes.h"
 #include "gpl/soft_constraints.h"
+#include "gpl/soft_sweeps.h"
 
 namespace gpl {
 namespace {
@@ -318,10 +319,13 @@ TEST(SoftBodies, SweepOrderKeepsTheOrderOfLinksThatShareAParticle) {
 TEST(SoftBodies, ClothLinksAreStoredInSweepOrder) {
     // Stored in sweep order already (sorting them again changes nothing), a grid's consecutive links
     // share no particle but where a wave of a few links ends: one projection need not wait for the last.
+    // (A cloth this size has fewer than kHalvesFrom links: it is not cut in halves.)
     SoftBodies soft;
     ClothSpec c;
-    c.nx = c.ny = 32;
+    c.nx = c.ny = 24;
     soft.addCloth(c);
+    ASSERT_LT(soft.links.size(), kHalvesFrom);
+    ASSERT_EQ(soft.meshes[0].firstHalfLinks, 0u);
     const std::vector<std::uint32_t> order = sweepOrder(soft.links, soft.x.size());
     for (std::size_t k = 0; k < order.size(); ++k) ASSERT_EQ(order[k], k) << "link " << k;
     std::size_t sharing = 0;
@@ -334,7 +338,142 @@ TEST(SoftBodies, ClothLinksAreStoredInSweepOrder) {
     EXPECT_LT(sharing, soft.links.size() / 100);
 }
 
+TEST(SoftBodies, HalvesOrderGivesTheSweepOrdersResultWithHalvesThatShareNoParticle) {
+    // Random links between nearby particles of a chain of 3000 (some pairs twice), enough to be cut:
+    // the first half's links (both particles before the cut), then the second half's (both after),
+    // then the rest; links that share a particle keep their sweep order, so a sweep of projections
+    // in the stored order ends where the sweep in the built order does, to the bit.
+    constexpr std::uint32_t n = 3000, cut = n / 2;
+    std::mt19937 random(9);
+    std::uniform_int_distribution<std::uint32_t> particle(0, n - 1), near(1, 6);
+    std::uniform_real_distribution<double> coordinate(-1.0, 1.0);
+    std::vector<DistanceLink> built;
+    while (built.size() < 2 * kHalvesFrom) {
+        DistanceLink l;
+        l.i = particle(random);
+        l.j = l.i + near(random);
+        if (l.j >= n) continue;
+        if (built.size() % 2 == 0) std::swap(l.i, l.j);
+        l.rest = 0.5;
+        built.push_back(l);
+    }
+    const HalvesOrder halves = halvesOrder(built, cut, n);
+    ASSERT_EQ(halves.order.size(), built.size());
+    // Most links lie in a half: the halves are worth a thread each.
+    EXPECT_GT(halves.first, built.size() / 4);
+    EXPECT_GT(halves.second, built.size() / 4);
+    const std::vector<std::uint32_t> sweep = sweepOrder(built, n);
+    std::vector<std::size_t> place(built.size(), built.size()), wave(built.size());
+    for (std::size_t k = 0; k < halves.order.size(); ++k) place.at(halves.order[k]) = k;
+    for (std::size_t k = 0; k < sweep.size(); ++k) wave[sweep[k]] = k;
+    for (std::size_t k = 0; k < halves.order.size(); ++k) {
+        const DistanceLink& l = built[halves.order[k]];
+        if (k < halves.first) {
+            EXPECT_TRUE(l.i < cut && l.j < cut) << "stored link " << k;
+        } else if (k < halves.first + halves.second) {
+            EXPECT_TRUE(l.i >= cut && l.j >= cut) << "stored link " << k;
+        }
+    }
+    std::vector<std::vector<std::uint32_t>> byParticle(n);
+    for (std::uint32_t k = 0; k < built.size(); ++k) {
+        ASSERT_LT(place[k], built.size()) << "link " << k << " is not stored";
+        byParticle[built[k].i].push_back(k);
+        byParticle[built[k].j].push_back(k);
+    }
+    for (const auto& sharing : byParticle) {
+        for (std::size_t a = 0; a < sharing.size(); ++a) {
+            for (std::size_t b = a + 1; b < sharing.size(); ++b) {
+                EXPECT_EQ(wave[sharing[a]] < wave[sharing[b]], place[sharing[a]] < place[sharing[b]])
+                    << "links " << sharing[a] << " and " << sharing[b];
+            }
+        }
+    }
+    std::vector<Vec3> start(n);
+    for (Vec3& q : start) q = Vec3(coordinate(random), coordinate(random), coordinate(random));
+    const auto project = [&](const std::vector<std::uint32_t>& sequence) {
+        std::vector<Vec3> q = start;
+        for (std::uint32_t k : sequence) {
+            const DistanceLink& l = built[k];
+            const DistanceCorrection c = solveDistanceConstraint(q[l.i], q[l.j], 1.0, 2.0, l.rest, 1e-4, 0.01, 0.0);
+            q[l.i] += c.dx1;
+            q[l.j] += c.dx2;
+        }
+        return q;
+    };
+    std::vector<std::uint32_t> inBuiltOrder(built.size());
+    for (std::size_t k = 0; k < built.size(); ++k) inBuiltOrder[k] = static_cast<std::uint32_t>(k);
+    const std::vector<Vec3> expected = project(inBuiltOrder), got = project(halves.order);
+    EXPECT_EQ(std::memcmp(expected.data(), got.data(), expected.size() * sizeof(Vec3)), 0);
+}
+
+TEST(SoftBodies, LargeClothIsCutInHalvesOfNearlyEqualWork) {
+    // Built from both edges towards the middle row, the two halves wait alike for the links across
+    // it: each holds close to half of the links (a thread's share), the rest a few per cent.
+    for (const int n : {40, 64, 128}) {
+        SoftBodies soft;
+        ClothSpec c;
+        c.nx = c.ny = n;
+        soft.addCloth(c);
+        const SoftMesh& mesh = soft.meshes[0];
+        const double links = mesh.linkCount;
+        EXPECT_GT(mesh.firstHalfLinks / links, 0.45) << n;
+        EXPECT_GT(mesh.secondHalfLinks / links, 0.45) << n;
+        const std::uint32_t cut = mesh.first + mesh.count / 2;
+        for (std::uint32_t k = 0; k < mesh.firstHalfLinks + mesh.secondHalfLinks; ++k) {
+            const DistanceLink& l = soft.links[mesh.firstLink + k];
+            const bool first = k < mesh.firstHalfLinks;
+            ASSERT_EQ(l.i < cut, first) << n << ": link " << k;
+            ASSERT_EQ(l.j < cut, first) << n << ": link " << k;
+        }
+    }
+}
+
 // ---- Stepping ----------------------------------------------------------------------------------------
+
+TEST(SoftBodies, LargeClothSweptInHalvesOnTwoThreadsGivesTheSameStateAsOnOne) {
+    // A cloth of 48 x 48 particles (about 13000 links, cut in halves) dropped on a sphere and a box,
+    // XPBD and PBD: two threads sweep the halves at once, one thread all links in the stored order;
+    // positions, velocities and multipliers end the same to the bit.
+    for (const SoftMethod method : {SoftMethod::XPBD, SoftMethod::PBD}) {
+        const std::vector<Body> bodies{sphere("ball", 0.5, 1.0).makeStatic().rough(0.5, 0.5),
+                                       box("box", Vec3(0.3, 0.3, 0.3), 1.0).at(Vec3(0.6, 0.3, 0.0)).makeStatic()};
+        const auto run = [&](int threads) {
+            SoftBodies soft;
+            soft.setThreads(threads);
+            ClothSpec c;
+            c.nx = c.ny = 48;
+            c.spacing = 2.0 / 47;
+            c.origin = Vec3(-1.0, 0.6, -1.0);
+            c.method = method;
+            c.stiffness = 0.8;
+            c.stretchCompliance = 1e-6;
+            soft.addCloth(c);
+            EXPECT_GT(soft.meshes[0].firstHalfLinks, 0u);
+            for (int step = 0; step < 60; ++step) {
+                soft.predict(1.0 / 60.0, Vec3(0.0, -9.81, 0.0), step / 60.0);
+                soft.findContacts(bodies, 1.0 / 60.0);
+                soft.project(1.0 / 60.0, 10, bodies);
+                soft.updateVelocities(1.0 / 60.0);
+            }
+            return soft;
+        };
+        const SoftBodies one = run(1), two = run(2);
+        EXPECT_FALSE(one.contacts.empty());  // it lies on the bodies
+        ASSERT_EQ(one.x.size(), two.x.size());
+        EXPECT_EQ(std::memcmp(one.x.data(), two.x.data(), one.x.size() * sizeof(Vec3)), 0);
+        EXPECT_EQ(std::memcmp(one.v.data(), two.v.data(), one.v.size() * sizeof(Vec3)), 0);
+        for (std::size_t k = 0; k < one.links.size(); ++k) ASSERT_EQ(one.links[k].lambda, two.links[k].lambda) << k;
+    }
+}
+
+TEST(SoftBodies, ThreadsAreOneOrTwo) {
+    SoftBodies soft;
+    EXPECT_THROW(soft.setThreads(0), std::invalid_argument);
+    soft.setThreads(1);
+    EXPECT_EQ(soft.threads(), 1);
+    soft.setThreads(4);
+    EXPECT_EQ(soft.threads(), 2);
+}
 
 TEST(SoftBodies, StagesAreNamedInStepOrder) {
     EXPECT_STREQ(stageName(Stage::SoftPredict), "predict");

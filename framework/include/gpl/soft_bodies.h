@@ -26,6 +26,7 @@
 
 #include "gpl/body.h"
 #include "gpl/math.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 
@@ -72,6 +73,9 @@ struct SoftMesh {
     /// Its constraints: links [firstLink, firstLink + linkCount), volumes [firstVolume, +volumeCount).
     std::uint32_t firstLink = 0, linkCount = 0;
     std::uint32_t firstVolume = 0, volumeCount = 0;
+    /// A large mesh's links are stored as two halves and the rest (soft_sweeps.h): the halves' link
+    /// counts, the first's from firstLink on, then the second's; 0 and 0 when it is not cut.
+    std::uint32_t firstHalfLinks = 0, secondHalfLinks = 0;
     int nx = 0, ny = 0;  ///< cloth: the grid's size; particle (i, j) is first + j nx + i
 };
 
@@ -86,7 +90,8 @@ struct ParticleContact {
     bool pushed = false;             ///< the body pushed the particle out during this step
 };
 
-/// The order in which a mesh's links are stored, and so swept: order[k] is the index among `links`
+/// The order in which a mesh's links are swept (a large mesh stores them in an order that gives
+/// the same result, halvesOrder() in soft_sweeps.h): order[k] is the index among `links`
 /// (as built) of the link stored at k. Links that share a particle keep the order they were built
 /// in, so a sweep gives the same result to the bit as in the built order; and they come in waves of
 /// links that share no particle (each link in the first wave after those of the earlier links it
@@ -105,8 +110,10 @@ std::vector<std::uint32_t> sweepOrder(const std::vector<DistanceLink>& links, st
 ///            opposite it in the two triangles that share it: (nx - 1)(ny - 2) + (nx - 2)(ny - 1)
 ///            links. A cell's own diagonal is shared by its two triangles too, but their opposite
 ///            corners are the cell's other diagonal, which shear holds already, so it adds none.
-/// Each cell is drawn as two triangles, split along alternate diagonals (a checkerboard), counter-
-/// clockwise seen from the side u x v points to.
+/// Each kind row by row, top (j = 0) to bottom; in a cloth of kHalvesFrom links or more (cut in
+/// halves, soft_sweeps.h), the rows from both edges towards the middle (j = 0, ny - 2, 1, ...), the
+/// bend links by their inner edge's row. Each cell is drawn as two triangles, split along alternate
+/// diagonals (a checkerboard), counter-clockwise seen from the side u x v points to.
 struct ClothSpec {
     std::string name = "cloth";
     int nx = 16, ny = 16;
@@ -226,6 +233,11 @@ public:
     /// v = (p - x) / h and x = p; a particle a body pushed keeps no velocity into it (relative to the
     /// body's at that point).
     void updateVelocities(double h);
+    /// Threads of project(), 1 or 2 (2 where the machine has two cores): a mesh cut in halves
+    /// (soft_sweeps.h) has them swept at once on two; the result is the same to the bit on one.
+    /// Throws std::invalid_argument when threads < 1.
+    void setThreads(int threads);
+    int threads() const { return threads_; }
 
     // ---- Diagnostics --------------------------------------------------------------------------
     double kineticEnergy() const;                            ///< J
@@ -267,6 +279,9 @@ private:
     std::vector<std::uint32_t> cellStart_;    ///< the spatial hash: each cell's first entry
     std::vector<std::uint32_t> cellEntries_;  ///< particles sorted by cell
     std::vector<std::uint32_t> nearby_;       ///< one particle's neighbours while they are collected
+    int threads_ = defaultThreads();
+    SecondThread second_;                     ///< sweeps a cut mesh's second half (threads_ 2)
+    static int defaultThreads();
 
     std::size_t addMesh(SoftMesh mesh);
     void collectSelfPairs(const SoftMesh& mesh, double travel);

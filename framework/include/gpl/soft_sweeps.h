@@ -1,0 +1,49 @@
+// A large mesh's links in two halves and the rest, for two threads (SoftBodies::project()).
+//
+// A mesh of at least kHalvesFrom links is cut in two at its middle particle: a cloth's particles
+// are stored row by row and a soft body's layer by layer, so the cut runs across the mesh. In the
+// sweep order (sweepOrder()), a link waits for the cut when it crosses it, or when it shares a
+// particle with an earlier link that waits; every other link lies in one half (both its particles
+// before the cut, or both after it) and depends on no link of the other half. The mesh stores its
+// links in that order: the first half's links that do not wait, then the second half's, then the
+// rest, each in sweep order. That moves no link past an earlier one that shares a particle with it,
+// so a sweep in the stored order (the plain loop of SoftBodies::project()) gives the result of the
+// sweep order to the bit; so do the two halves swept at once on two threads (sweepHalves()) and then
+// the rest: the threads change nothing but the time. A cloth's links are built from both
+// edges towards the middle row (ClothSpec), so that the two halves wait for the cut alike and most
+// links do not wait at all.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "gpl/math.h"
+#include "gpl/second_thread.h"
+#include "gpl/soft_bodies.h"
+
+namespace gpl {
+
+/// From this many links on, a mesh is cut in two halves (a 30 x 30 cloth has about 5000).
+constexpr std::uint32_t kHalvesFrom = 4096;
+
+/// The order in which a mesh's links are stored: order[k] is the index among `links` (as built)
+/// of the link stored at k. Fewer than kHalvesFrom links: sweepOrder(links, particles), and
+/// first = second = 0. Otherwise the links of the first half (both particles before `cut`) that do
+/// not wait for the cut, then the second half's (both at or after it), then the rest, each in
+/// sweepOrder(); first and second count the halves' links.
+struct HalvesOrder {
+    std::vector<std::uint32_t> order;
+    std::uint32_t first = 0, second = 0;
+};
+HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cut, std::size_t particles);
+
+/// One sweep of a cut mesh's halves (mesh.firstHalfLinks > 0), as the plain loop of
+/// SoftBodies::project() sweeps their links for the mesh's method (XPBD: solveDistanceConstraint()
+/// with the compliance, the multiplier summed; PBD: with alpha = 0, the move scaled by the per-sweep
+/// share of the stiffness over `iterations`): the two at once, the second on `second` (or here after
+/// the first, while the machine gives that thread no core). The rest of the links are the caller's.
+void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
+                 const std::vector<double>& w, double h, int iterations, SecondThread& second);
+
+}  // namespace gpl
