@@ -403,6 +403,26 @@ class Window(unittest.TestCase):
         self.assertEqual(rc, 2)
         self.assertIn("--fluid-particles", log)
 
+    def test_the_benchmarks_block_of_fluid_shows_as_shaded_spheres(self):
+        # The 20 000 particles --fluid-particles lays on a lattice, most of them hidden behind the
+        # block's outer layers (and left out of the drawing): what shows in the fluid's box on screen is
+        # a wall of spheres, white (the rest density's colour) where lit and darker towards their rims.
+        shot = self.tmp / "block.png"
+        rc, states, log = viewer(SOLUTIONS, "pour-onto-sphere", "--fluid-particles", 20000, "--paused", "--script",
+                                 f"dump; shot {shot}; quit")
+        self.assertEqual(rc, 0, log)
+        view = states[0]["view"]
+        left, top, right, bottom = view["bodies"][-1]  # the fluid's, after the bodies'
+        counted = colours(shot, tuple(int(v) for v in (left, max(top, view["overlay"][3]), right, bottom)))
+        total = sum(n for n, _ in counted)
+        sky = sum(n for n, p in counted if max(abs(a - b) for a, b in zip(p, SKY)) <= 12)
+        lit = sum(n for n, p in counted if min(p) > 225)
+        shaded = sum(n for n, p in counted if max(p) < 170)
+        # The box is the block's on screen but for the corners that perspective leaves (a few per cent).
+        self.assertLess(sky, 0.15 * total, "the block fills its box")
+        self.assertGreater(lit, 0.1 * total, "the spheres' lit sides")
+        self.assertGreater(shaded, 0.1 * total, "the spheres' shaded rims: spheres, not flat discs")
+
     def test_recording_writes_frames(self):
         rec = self.tmp / "rec"
         rc, states, log = viewer(SOLUTIONS, "projectile", "--script", "wait 1; key v; wait 10; key v; dump; quit",
