@@ -117,6 +117,25 @@ void visibleSprites(const Camera& camera, const Fluids& fluid, int width, int he
     work.cell = static_cast<int>(std::clamp(spriteWidth(radius, camera.distance(), pixelsPerMetre) / 5.0, 2.0, 16.0));
     work.columns = (width + work.cell - 1) / work.cell, work.rows = (height + work.cell - 1) / work.cell;
     work.nearest.assign(static_cast<std::size_t>(work.columns) * work.rows, HUGE_VALF);
+    constexpr int kBlock = SpriteDepths::kBlock;
+    work.blockColumns = (work.columns + kBlock - 1) / kBlock, work.blockRows = (work.rows + kBlock - 1) / kBlock;
+    work.farthest.assign(static_cast<std::size_t>(work.blockColumns) * work.blockRows, HUGE_VALF);
+    work.changed.assign(work.farthest.size(), 0);
+    // A block's farthest depth, brought up to date.
+    const auto blockFarthest = [&](int bc, int br) {
+        const std::size_t b = static_cast<std::size_t>(br) * work.blockColumns + bc;
+        if (work.changed[b]) {
+            work.changed[b] = 0;
+            float far = 0.0f;
+            const int cEnd = std::min(work.columns, (bc + 1) * kBlock), rEnd = std::min(work.rows, (br + 1) * kBlock);
+            for (int r = br * kBlock; r < rEnd; ++r) {
+                const float* row = &work.nearest[static_cast<std::size_t>(r) * work.columns];
+                for (int c = bc * kBlock; c < cEnd; ++c) far = std::max(far, row[c]);
+            }
+            work.farthest[b] = far;
+        }
+        return work.farthest[b];
+    };
     // In cells from here on (single precision: a few thousand cells across); a pixel's centre lies
     // half a pixel inside its cell's edge.
     const float perCell = 1.0f / static_cast<float>(work.cell), margin = 0.5f * perCell;
@@ -143,6 +162,14 @@ void visibleSprites(const Camera& camera, const Fluids& fluid, int width, int he
         const auto reach = static_cast<float>(half + kSlack) * perCell;
         const int r0 = std::max(0, floorOf(y - reach)), r1 = std::min(work.rows - 1, floorOf(y + reach));
         const auto f = static_cast<float>(depth);
+        // At once when the blocks around the disc are covered by nearer sprites throughout.
+        const int b0 = std::max(0, floorOf(x - reach)) / kBlock;
+        const int b1 = std::min(work.columns - 1, floorOf(x + reach)) / kBlock;
+        bool hidden = true;
+        for (int br = r0 / kBlock; br <= r1 / kBlock && hidden; ++br) {
+            for (int bc = b0; bc <= b1 && hidden; ++bc) hidden = blockFarthest(bc, br) < f;
+        }
+        if (hidden) continue;
         // Row by row, the cells with a pixel's centre within `reach` of the disc's centre (cell c's
         // centres span c + margin .. c + 1 - margin): shows when one is not covered by a nearer sprite.
         bool shows = false;
@@ -153,7 +180,9 @@ void visibleSprites(const Camera& camera, const Fluids& fluid, int width, int he
             const int c0 = std::max(0, ceilOf(x - w - 1.0f + margin));
             const int c1 = std::min(work.columns - 1, floorOf(x + w - margin));
             const float* row = &work.nearest[static_cast<std::size_t>(r) * work.columns];
-            for (int c = c0; c <= c1; ++c) shows = shows || !(row[c] < f);
+            bool covered = true;
+            for (int c = c0; c <= c1; ++c) covered &= row[c] < f;  // no branch per cell
+            shows = !covered;
         }
         if (!shows) continue;
         visible.push_back(i);
@@ -168,6 +197,11 @@ void visibleSprites(const Camera& camera, const Fluids& fluid, int width, int he
             const int c1 = std::min(work.columns - 1, floorOf(x + w - margin - span));
             float* row = &work.nearest[static_cast<std::size_t>(r) * work.columns];
             for (int c = c0; c <= c1; ++c) row[c] = std::min(row[c], f);
+            if (c0 <= c1) {
+                for (int bc = c0 / kBlock; bc <= c1 / kBlock; ++bc) {
+                    work.changed[static_cast<std::size_t>(r / kBlock) * work.blockColumns + bc] = 1;
+                }
+            }
         }
     }
 }

@@ -67,6 +67,12 @@ struct SpriteDepths {
     int cell = 1;  ///< pixels on a side
     int columns = 0, rows = 0;
     std::vector<float> nearest;  ///< columns x rows, row 0 at the bottom
+    /// Blocks of kBlock x kBlock cells: the farthest of their cells' depths (infinite while a cell
+    /// of the block is uncovered), brought up to date when a test needs it after a block changed.
+    static constexpr int kBlock = 4;
+    int blockColumns = 0, blockRows = 0;
+    std::vector<float> farthest;
+    std::vector<std::uint8_t> changed;
 };
 
 /// The particles of `order` whose sprites can show in a width x height viewport, in the order
