@@ -1,5 +1,5 @@
 """A batch of 50 submissions made from the solutions, the untouched stubs, a half-done submission and
-seeded mistakes of three worksheets, graded with ./lab grade --batch. Checks: the gradebook
+a seeded mistake, graded with ./lab grade --batch. Checks: the gradebook
 matches each submission's results.json; each submission but the solutions' copies (full marks, every
 test passed) scores what the engine built from the same code by the main build (an independent
 oracle) scores with the checker; identical submissions share one build and one run."""
@@ -47,17 +47,16 @@ class Batch(unittest.TestCase):
             hooks.write_mutants(mutants)
         sources = {"solutions": ROOT / "solutions", "assignments": ROOT / "assignments"}
         sources.update({f"mutant_{m['name']}": mutants / m["name"] for m in hooks.load_mutants()})
-        # 50 submissions: one mistake each of three worksheets (a fixed sample: each distinct
-        # submission compiles its hook files and runs every graded test twice, here and in the
-        # oracle, and ctest's grader.mutant.* check every mistake), the stubs five, a half-done one
-        # (integrator only, the rest missing) five, three with extra files besides the solutions, and
-        # the solutions.
+        # 50 submissions: one seeded mistake (a fixed sample: each distinct submission compiles its
+        # hook files and runs every graded test twice, here and in the oracle, and ctest's
+        # grader.mutant.* check every mistake), the stubs five, a half-done one (integrator only, the
+        # rest missing) five, three with extra files besides the solutions, and the solutions.
         by_worksheet = {}
         for m in hooks.load_mutants():
             by_worksheet.setdefault(m["spec"], []).append(f"mutant_{m['name']}")
         picked = random.Random(5)
         plan = ["assignments"] * 5 + ["half"] * 5 + ["solutions+notes"] * 3
-        for spec in picked.sample(sorted(by_worksheet), 3):
+        for spec in picked.sample(sorted(by_worksheet), 1):
             plan += picked.sample(by_worksheet[spec], 1)
         plan += ["solutions"] * (50 - len(plan))
         assert len(plan) == 50, "more seeded mistakes than a batch of 50 holds"
