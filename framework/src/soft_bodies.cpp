@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -195,7 +196,9 @@ void SoftBodies::collectSelfPairs(const SoftMesh& mesh, double travel) {
 void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodies) {
     // The second thread, if a mesh's halves are to be swept on it, woken to spin while this one prepares.
     const auto cut = [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; };
-    if (threads_ > 1 && std::any_of(meshes.begin(), meshes.end(), cut)) second_.wake();
+    const bool halves = std::any_of(meshes.begin(), meshes.end(), cut);
+    if (threads_ > 1 && halves) second_.wake();
+    if (halves) groupContactsByHalf();
     for (DistanceLink& link : links) link.lambda = 0.0;
     for (TetVolume& volume : volumes) volume.lambda = 0.0;
     for (ParticleContact& c : contacts) {
@@ -264,7 +267,13 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         }
         // Contacts last, so that no particle ends a sweep inside a body.
         pushSelfPairs();
-        pushOutOfBodies(h, bodies);
+        // A cut mesh's contacts, on two threads: its halves' at once (soft_sweeps.h); then the rest.
+        std::size_t firstContact = 0;
+        if (threads_ > 1 && halves) {
+            pushContactHalves(h, bodies);
+            firstContact = contactHalves_[0] + contactHalves_[1];
+        }
+        pushOutOfBodies(h, bodies, firstContact, contacts.size());
     }
     catchMissedContacts(bodies);
 }
@@ -297,8 +306,43 @@ Vec3 SoftBodies::pushedOut(const Body& body, const Vec3& q, double r) const {
     return q;
 }
 
-void SoftBodies::pushOutOfBodies(double h, const std::vector<Body>& bodies) {
-    for (ParticleContact& contact : contacts) {
+void SoftBodies::groupContactsByHalf() {
+    const auto half = [this](const ParticleContact& c) {
+        const SoftMesh& mesh = meshes[meshOf[c.particle]];
+        if (mesh.firstHalfLinks == 0) return 2;
+        return c.particle < halvesCut(mesh) ? 0 : 1;
+    };
+    grouped_.clear();
+    for (int group = 0; group < 3; ++group) {
+        for (const ParticleContact& c : contacts) {
+            if (half(c) == group) grouped_.push_back(c);
+        }
+        if (group < 2) contactHalves_[group] = grouped_.size() - (group == 1 ? contactHalves_[0] : 0);
+    }
+    contacts.swap(grouped_);
+}
+
+void SoftBodies::pushContactHalves(double h, const std::vector<Body>& bodies) {
+    // What both halves need, captured by reference: std::function then keeps it in its own storage.
+    struct Push {
+        SoftBodies& soft;
+        const std::vector<Body>& bodies;
+        double h;
+    };
+    const Push push{*this, bodies, h};
+    const std::function<void()> first = [&push] {
+        push.soft.pushOutOfBodies(push.h, push.bodies, 0, push.soft.contactHalves_[0]);
+    };
+    const std::function<void()> second = [&push] {
+        const std::size_t begin = push.soft.contactHalves_[0];
+        push.soft.pushOutOfBodies(push.h, push.bodies, begin, begin + push.soft.contactHalves_[1]);
+    };
+    second_.run(true, first, second);
+}
+
+void SoftBodies::pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+        ParticleContact& contact = contacts[k];
         const std::uint32_t i = contact.particle;
         const Body& body = bodies[contact.body];
         const double r = meshes[meshOf[i]].radius;

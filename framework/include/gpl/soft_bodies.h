@@ -281,12 +281,19 @@ private:
     std::vector<std::uint32_t> nearby_;       ///< one particle's neighbours while they are collected
     int threads_ = defaultThreads();
     SecondThread second_;                     ///< sweeps a cut mesh's second half (threads_ 2)
+    std::array<std::size_t, 2> contactHalves_{};  ///< this step's contacts of cut meshes' first and second halves
+    std::vector<ParticleContact> grouped_;        ///< the contacts while they are grouped
     static int defaultThreads();
 
     std::size_t addMesh(SoftMesh mesh);
     void collectSelfPairs(const SoftMesh& mesh, double travel);
     void pushSelfPairs();
-    void pushOutOfBodies(double h, const std::vector<Body>& bodies);
+    /// Contacts [begin, end) pushed out of their bodies, with friction.
+    void pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end);
+    /// The cut meshes' contacts: the first halves' and the second halves' at once, on two threads.
+    void pushContactHalves(double h, const std::vector<Body>& bodies);
+    /// Groups the contacts by the halves of their particles (soft_sweeps.h) and counts the groups.
+    void groupContactsByHalf();
     Vec3 pushedOut(const Body& body, const Vec3& q, double r) const;
     /// Moves the contact's particle (radius r) to `moved` and counts the push; false when it moves
     /// no more than the rounding of a particle on the surface.

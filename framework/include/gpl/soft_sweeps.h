@@ -27,6 +27,9 @@ namespace gpl {
 /// From this many links on, a mesh is cut in two halves (a 30 x 30 cloth has about 5000).
 constexpr std::uint32_t kHalvesFrom = 4096;
 
+/// The particle a mesh is cut at: its first half is [mesh.first, cut), its second [cut, first + count).
+inline std::uint32_t halvesCut(const SoftMesh& mesh) { return mesh.first + mesh.count / 2; }
+
 /// The order in which a mesh's links are stored: order[k] is the index among `links` (as built)
 /// of the link stored at k. Fewer than kHalvesFrom links: sweepOrder(links, particles), and
 /// first = second = 0. Otherwise the links of the first half (both particles before `cut`) that do
@@ -38,6 +41,11 @@ struct HalvesOrder {
 };
 HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cut, std::size_t particles);
 
+/// SoftBodies::project() also groups the step's contacts: those of the cut meshes' first halves'
+/// particles, then of their second halves', then the rest, each group in the order found. A contact
+/// moves its own particle only, so contacts of different particles give the same result in any order,
+/// and a particle's contacts keep theirs: two threads push the two halves' contacts out at once, with
+/// the result of one thread to the bit.
 /// One sweep of a cut mesh's halves (mesh.firstHalfLinks > 0), as the plain loop of
 /// SoftBodies::project() sweeps their links for the mesh's method (XPBD: solveDistanceConstraint()
 /// with the compliance, the multiplier summed; PBD: with alpha = 0, the move scaled by the per-sweep
