@@ -324,11 +324,18 @@ class WithoutSandbox(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.before = tree_digest(ROOT / "tests")
-        grade_batch(cls, ["reference", "writes_tests", "forks", "snoops"], env={"GPL_GRADER_SANDBOX": "off"})
+        # The writer and the snoop do what they do in worksheet 1's integrator: graded on worksheet 1.
+        # The reference (full marks without the sandbox) and the forking submission over the course.
+        grade_batch(cls, ["writes_tests", "snoops"], env={"GPL_GRADER_SANDBOX": "off"}, worksheet=1)
+        first_tmp, first_results = cls.tmp, cls.results
+        grade_batch(cls, ["reference", "forks"], env={"GPL_GRADER_SANDBOX": "off"})
+        cls.tmps = [first_tmp, cls.tmp]
+        cls.results.update(first_results)
 
     @classmethod
     def tearDownClass(cls):
-        shutil.rmtree(cls.tmp)
+        for tmp in cls.tmps:
+            shutil.rmtree(tmp)
 
     check = Misbehaving.check
 
