@@ -1,6 +1,8 @@
 // Worksheet 8's step of the soft bodies: predict, find contacts, project, update velocities
 // (soft_bodies.h), and their diagnostics. The meshes are built in soft_meshes.cpp; the constraint
 // and contact kernels are the students' hooks (soft_constraints.h).
+#include "gpl/soft_bodies.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -10,7 +12,6 @@
 #include <string>
 #include <thread>
 
-#include "gpl/soft_bodies.h"
 #include "gpl/soft_constraints.h"
 #include "gpl/soft_sweeps.h"
 

@@ -215,7 +215,8 @@ std::size_t SoftBodies::addMesh(SoftMesh mesh) {
     const auto first = links.begin() + mesh.firstLink;
     const std::vector<DistanceLink> built(first, first + mesh.linkCount);
     const HalvesOrder stored = halvesOrder(built, halvesCut(mesh), x.size());
-    for (std::size_t k = 0; k < stored.order.size(); ++k) first[static_cast<std::ptrdiff_t>(k)] = built[stored.order[k]];
+    for (std::size_t k = 0; k < stored.order.size(); ++k)
+        first[static_cast<std::ptrdiff_t>(k)] = built[stored.order[k]];
     mesh.firstHalfLinks = stored.first;
     mesh.secondHalfLinks = stored.second;
     meshes.push_back(std::move(mesh));

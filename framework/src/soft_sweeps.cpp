@@ -82,7 +82,9 @@ void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::ve
                  const std::vector<double>& w, double h, int iterations, SecondThread& second) {
     const HalfSweep s{links, p, w, mesh.method, h, iterations};
     // Each captures what fits in std::function's own storage: a step allocates nothing.
-    const std::function<void()> first = [&s, &mesh] { sweepLinkRange(s, mesh.firstLink, mesh.firstLink + mesh.firstHalfLinks); };
+    const std::function<void()> first = [&s, &mesh] {
+        sweepLinkRange(s, mesh.firstLink, mesh.firstLink + mesh.firstHalfLinks);
+    };
     const std::function<void()> other = [&s, &mesh] {
         const std::uint32_t begin = mesh.firstLink + mesh.firstHalfLinks;
         sweepLinkRange(s, begin, begin + mesh.secondHalfLinks);

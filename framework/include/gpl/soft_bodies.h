@@ -280,7 +280,7 @@ private:
     std::vector<std::uint32_t> cellEntries_;  ///< particles sorted by cell
     std::vector<std::uint32_t> nearby_;       ///< one particle's neighbours while they are collected
     int threads_ = defaultThreads();
-    SecondThread second_;                     ///< sweeps a cut mesh's second half (threads_ 2)
+    SecondThread second_;                         ///< sweeps a cut mesh's second half (threads_ 2)
     std::array<std::size_t, 2> contactHalves_{};  ///< this step's contacts of cut meshes' first and second halves
     std::vector<ParticleContact> grouped_;        ///< the contacts while they are grouped
     static int defaultThreads();
