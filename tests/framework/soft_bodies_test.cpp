@@ -269,6 +269,26 @@ TEST(SoftBodies, BadSoftBodyIsRejectedNamingIt) {
     expectRejected([] { makeSoftBall("ball", Vec3::Zero(), 1.0, 1); }, "ball", "a ball of one cell");
 }
 
+// One sweep of XPBD projections (pairs of masses 1 and 2 kg) over the links in `sequence`, from `start`.
+std::vector<Vec3> swept(const std::vector<Vec3>& start, const std::vector<DistanceLink>& links,
+                        const std::vector<std::uint32_t>& sequence) {
+    std::vector<Vec3> q = start;
+    for (std::uint32_t k : sequence) {
+        const DistanceLink& l = links[k];
+        const DistanceCorrection c = solveDistanceConstraint(q[l.i], q[l.j], 1.0, 2.0, l.rest, 1e-4, 0.01, 0.0);
+        q[l.i] += c.dx1;
+        q[l.j] += c.dx2;
+    }
+    return q;
+}
+
+// The same sweep over the links in the order they were built.
+std::vector<Vec3> sweptInBuiltOrder(const std::vector<Vec3>& start, const std::vector<DistanceLink>& links) {
+    std::vector<std::uint32_t> inBuiltOrder(links.size());
+    for (std::size_t k = 0; k < links.size(); ++k) inBuiltOrder[k] = static_cast<std::uint32_t>(k);
+    return swept(start, links, inBuiltOrder);
+}
+
 TEST(SoftBodies, SweepOrderKeepsTheOrderOfLinksThatShareAParticle) {
     // Random links among 40 particles (some pairs twice): stored in sweep order, a sweep of
     // projections ends where the sweep in the built order does, to the bit.
@@ -300,19 +320,7 @@ TEST(SoftBodies, SweepOrderKeepsTheOrderOfLinksThatShareAParticle) {
     }
     std::vector<Vec3> start(40);
     for (Vec3& q : start) q = Vec3(coordinate(random), coordinate(random), coordinate(random));
-    const auto sweep = [&](const std::vector<std::uint32_t>& sequence) {
-        std::vector<Vec3> q = start;
-        for (std::uint32_t k : sequence) {
-            const DistanceLink& l = built[k];
-            const DistanceCorrection c = solveDistanceConstraint(q[l.i], q[l.j], 1.0, 2.0, l.rest, 1e-4, 0.01, 0.0);
-            q[l.i] += c.dx1;
-            q[l.j] += c.dx2;
-        }
-        return q;
-    };
-    std::vector<std::uint32_t> inBuiltOrder(built.size());
-    for (std::size_t k = 0; k < built.size(); ++k) inBuiltOrder[k] = static_cast<std::uint32_t>(k);
-    const std::vector<Vec3> expected = sweep(inBuiltOrder), got = sweep(order);
+    const std::vector<Vec3> expected = sweptInBuiltOrder(start, built), got = swept(start, built, order);
     EXPECT_EQ(std::memcmp(expected.data(), got.data(), expected.size() * sizeof(Vec3)), 0);
 }
 
@@ -390,19 +398,7 @@ TEST(SoftBodies, HalvesOrderGivesTheSweepOrdersResultWithHalvesThatShareNoPartic
     }
     std::vector<Vec3> start(n);
     for (Vec3& q : start) q = Vec3(coordinate(random), coordinate(random), coordinate(random));
-    const auto project = [&](const std::vector<std::uint32_t>& sequence) {
-        std::vector<Vec3> q = start;
-        for (std::uint32_t k : sequence) {
-            const DistanceLink& l = built[k];
-            const DistanceCorrection c = solveDistanceConstraint(q[l.i], q[l.j], 1.0, 2.0, l.rest, 1e-4, 0.01, 0.0);
-            q[l.i] += c.dx1;
-            q[l.j] += c.dx2;
-        }
-        return q;
-    };
-    std::vector<std::uint32_t> inBuiltOrder(built.size());
-    for (std::size_t k = 0; k < built.size(); ++k) inBuiltOrder[k] = static_cast<std::uint32_t>(k);
-    const std::vector<Vec3> expected = project(inBuiltOrder), got = project(halves.order);
+    const std::vector<Vec3> expected = sweptInBuiltOrder(start, built), got = swept(start, built, halves.order);
     EXPECT_EQ(std::memcmp(expected.data(), got.data(), expected.size() * sizeof(Vec3)), 0);
 }
 
