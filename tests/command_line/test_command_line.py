@@ -66,6 +66,8 @@ LAB_CASES = [
     (["bench", "engine", "--threads"], "--threads", "needs 1 or 2"),
     (["bench", "engine", "--shape", "cone"], "--shape", "expects sphere or box, got 'cone'"),
     (["bench", "engine", "--shape"], "--shape", "needs sphere or box"),
+    (["bench", "cloth", "--threads"], "--threads", "expects 1 or 2"),
+    (["bench", "cloth", "--threads", "1", "3"], "--threads", "expects 1 or 2, got '3'"),
     (["assignments", "--bogus"], "--bogus", "--check or --write"),
     (["assignments", "--check", "--write"], "assignments", "expects one option"),
     (["release"], "dir", "required"),
