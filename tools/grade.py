@@ -57,10 +57,10 @@ from grading.cgroups import Cgroups  # noqa: E402
 from grading.guard import Guard  # noqa: E402
 from grading.reports import (Progress, check_writable, gradebook, gradescope, report, table,  # noqa: E402
                              write_atomically)
-from grading.sandbox import (BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits, limits_of,  # noqa: E402
+from grading.sandbox import (BUDGET, DEFAULT_MEMORY_MIB, Sandbox, default_limits,  # noqa: E402
                              usable_cores)
 from grading.running import (DEFAULT_TIMEOUT, SANITIZER_MARK, Programs, failed_results,  # noqa: E402
-                             grade_binary, run_one, select, with_prerequisites)
+                             grade_binary, run_one, select, test_limits, with_prerequisites)
 
 # How many of one engine's tests are graded at once, each in its own sandbox: one per usable core. A
 # batch grades its submissions at once instead, each one test at a time.
@@ -315,7 +315,7 @@ def cmd_selfcheck(args):
         # The named test must lose its points in the graded run (failed or not run) AND fail when run
         # on its own: a prerequisite catching the mistake must not hide a test that cannot.
         if named.get("not_run"):
-            alone, _, _ = run_one(programs, spec["must_fail"], limits_of(named, args.defaults))
+            alone, _, _ = run_one(programs, spec["must_fail"], test_limits(programs, named, args.defaults))
         else:
             alone = named["passed"]  # it ran on its own already, in its own process
         ok = not named["passed"] and named["score"] == 0 and total < maximum and not alone

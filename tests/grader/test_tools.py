@@ -271,6 +271,23 @@ class Pairs(unittest.TestCase):
             self.assertTrue(all(t[k] >= 0 for k in ("memory_limit", "thread_limit", "file_limit")), t)
 
 
+class SanitizerTimeLimits(unittest.TestCase):
+    """A sanitizer build gives the heavy tests, those with a time limit of their own, that limit times
+    SANITIZER_TIME_FACTOR; every other limit, and every limit of a release build, stays as it is."""
+
+    def test_only_a_tests_own_limit_grows_and_only_under_a_sanitizer(self):
+        heavy, light = {"name": "W.Heavy", "time_limit": 90}, {"name": "W.Light"}
+        release = type("Release", (), {"sanitizer": False})
+        sanitizer = type("Sanitizer", (), {"sanitizer": True})
+        self.assertEqual(running.test_limits(release, heavy, 5.0).seconds, 90)
+        self.assertEqual(running.test_limits(release, light, 5.0).seconds, 5.0)
+        self.assertEqual(running.test_limits(sanitizer, heavy, 5.0).seconds, 90 * running.SANITIZER_TIME_FACTOR)
+        self.assertGreater(running.SANITIZER_TIME_FACTOR, 1.0)
+        self.assertEqual(running.test_limits(sanitizer, light, 5.0).seconds, 5.0)
+        self.assertEqual(running.test_limits(sanitizer, heavy, 5.0).memory_mib,
+                         running.test_limits(release, heavy, 5.0).memory_mib)
+
+
 class TestsAtOnce(unittest.TestCase):
     TESTS = [{"name": n, "worksheet": 1, "points": 1.0, "depends_on": d, "timeout": 5.0}
              for n, d in [("A", []), ("B", ["A"]), ("C", []), ("D", ["C"]), ("E", ["D", "B"]), ("F", ["Z"]),

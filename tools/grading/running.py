@@ -1,6 +1,7 @@
 """Running graded tests: for each, the trusted checker and the submission's engine in the sandbox,
 wired by pipes; limits; and what a failure means (which hook, which limit)."""
 import concurrent.futures
+import dataclasses
 import fcntl
 import json
 import os
@@ -19,6 +20,10 @@ from grading.cgroups import Cgroups
 from grading.sandbox import limits_of
 
 DEFAULT_TIMEOUT = 5.0         # s per test; the reference solution needs a few hundredths
+# A sanitizer build (the asan presets' self-checks) runs the heavy tests, those that set their own
+# time limit, several times slower than the release build the limit is set for: there they get this
+# many times their limit. The grader's own setting, never the submission's.
+SANITIZER_TIME_FACTOR = 3.0
 OUTPUT_CAP = 1 << 20          # bytes of output a test may print before it is stopped
 TRACE_GRACE = 2.0             # s a stopped test gets to write its call stack before it is killed
 GTEST_LINE = re.compile(r"^(Note: Google Test filter|\[[ =A-Z-]{10}\])")  # GoogleTest's own lines
@@ -722,6 +727,15 @@ def select(tests, worksheet):
     return picked
 
 
+def test_limits(programs, test, defaults=DEFAULT_TIMEOUT):
+    """The limits a graded test runs under with these programs: limits_of() its manifest entry, its
+    own time limit SANITIZER_TIME_FACTOR times longer in a sanitizer build."""
+    limits = limits_of(test, defaults)
+    if getattr(programs, "sanitizer", False) and test.get("time_limit"):
+        limits = dataclasses.replace(limits, seconds=limits.seconds * SANITIZER_TIME_FACTOR)
+    return limits
+
+
 def grade_binary(programs, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None, only=None, tests=None, jobs=1):
     """Grades every selected test (of the worksheet; of those named in `only` too, when given),
     prerequisites first, the list from the trusted checker. A test whose prerequisite lost its
@@ -736,7 +750,7 @@ def grade_binary(programs, worksheet=None, defaults=DEFAULT_TIMEOUT, guard=None,
               for t in tests}
 
     def graded(t):
-        passed, output, seconds = run_one(programs, t["name"], limits_of(t, defaults), guard)
+        passed, output, seconds = run_one(programs, t["name"], test_limits(programs, t, defaults), guard)
         return {**t, "passed": passed, "not_run": False, "score": t["points"] if passed else 0.0,
                 "output": output, "seconds": seconds}
 
