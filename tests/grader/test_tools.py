@@ -271,14 +271,17 @@ class Pairs(unittest.TestCase):
             self.assertTrue(all(t[k] >= 0 for k in ("memory_limit", "thread_limit", "file_limit")), t)
 
 
+# Programs as grade_binary() and test_limits() read them where run_one() is replaced: a release build.
+RELEASE_BUILD = type("Release", (), {"sanitizer": False})
+
+
 class SanitizerTimeLimits(unittest.TestCase):
     """A sanitizer build gives the heavy tests, those with a time limit of their own, that limit times
     SANITIZER_TIME_FACTOR; every other limit, and every limit of a release build, stays as it is."""
 
     def test_only_a_tests_own_limit_grows_and_only_under_a_sanitizer(self):
         heavy, light = {"name": "W.Heavy", "time_limit": 90}, {"name": "W.Light"}
-        release = type("Release", (), {"sanitizer": False})
-        sanitizer = type("Sanitizer", (), {"sanitizer": True})
+        release, sanitizer = RELEASE_BUILD, type("Sanitizer", (), {"sanitizer": True})
         self.assertEqual(running.test_limits(release, heavy, 5.0).seconds, 90)
         self.assertEqual(running.test_limits(release, light, 5.0).seconds, 5.0)
         self.assertEqual(running.test_limits(sanitizer, heavy, 5.0).seconds, 90 * running.SANITIZER_TIME_FACTOR)
@@ -307,7 +310,7 @@ class TestsAtOnce(unittest.TestCase):
 
         with mock.patch.object(running, "run_one", run_one), mock.patch.object(running, "limits_of",
                                                                             lambda t, d: None):
-            return running.grade_binary(None, tests=self.TESTS, jobs=jobs), times
+            return running.grade_binary(RELEASE_BUILD, tests=self.TESTS, jobs=jobs), times
 
     def test_the_results_are_those_of_one_at_a_time(self):
         alone, _ = self.grade(1)

@@ -731,7 +731,7 @@ def test_limits(programs, test, defaults=DEFAULT_TIMEOUT):
     """The limits a graded test runs under with these programs: limits_of() its manifest entry, its
     own time limit SANITIZER_TIME_FACTOR times longer in a sanitizer build."""
     limits = limits_of(test, defaults)
-    if getattr(programs, "sanitizer", False) and test.get("time_limit"):
+    if programs.sanitizer and test.get("time_limit"):
         limits = dataclasses.replace(limits, seconds=limits.seconds * SANITIZER_TIME_FACTOR)
     return limits
 
