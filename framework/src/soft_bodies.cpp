@@ -199,7 +199,20 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
     const auto cut = [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; };
     const bool halves = std::any_of(meshes.begin(), meshes.end(), cut);
     if (threads_ > 1 && halves) second_.wake();
-    if (halves) groupContactsByHalf();
+    if (halves) groupContacts();
+    // On two threads, a cut mesh's halves' contacts are pushed out right after their half's links.
+    struct HalfContacts {
+        SoftBodies& soft;
+        const std::vector<Body>& bodies;
+        double h;
+        std::size_t mesh;
+    } halfContacts{*this, bodies, h, 0};
+    const std::function<void(int)> pushHalfContacts = [&halfContacts](int half) {
+        SoftBodies& soft = halfContacts.soft;
+        const std::size_t group = 2 * halfContacts.mesh + static_cast<std::size_t>(half);
+        soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group],
+                             soft.contactGroups_[group + 1]);
+    };
     for (DistanceLink& link : links) link.lambda = 0.0;
     for (TetVolume& volume : volumes) volume.lambda = 0.0;
     for (ParticleContact& c : contacts) {
@@ -208,12 +221,15 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         c.friction = Vec3::Zero();
     }
     for (int iteration = 0; iteration < iterations; ++iteration) {
-        for (const SoftMesh& mesh : meshes) {
+        for (std::size_t m = 0; m < meshes.size(); ++m) {
+            const SoftMesh& mesh = meshes[m];
             // A mesh cut in halves, on two threads: the halves' links swept at once (soft_sweeps.h),
-            // the same kernel on each, with the result of the loops below to the bit; then the rest.
+            // the same kernel on each, with the result of the loops below to the bit, each followed
+            // by its contacts; then the rest.
             std::uint32_t firstLink = mesh.firstLink;
             if (threads_ > 1 && mesh.firstHalfLinks > 0) {
-                sweepHalves(mesh, links, p, w, h, iterations, second_);
+                halfContacts.mesh = m;
+                sweepHalves(mesh, links, p, w, h, iterations, second_, pushHalfContacts);
                 firstLink += mesh.firstHalfLinks + mesh.secondHalfLinks;
             }
             const std::uint32_t lastLink = mesh.firstLink + mesh.linkCount;
@@ -266,15 +282,10 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
                 }
             }
         }
-        // Contacts last, so that no particle ends a sweep inside a body.
+        // Contacts last, so that no particle ends a sweep inside a body (on two threads, those of cut
+        // meshes' halves went with their links).
         pushSelfPairs();
-        // A cut mesh's contacts, on two threads: its halves' at once (soft_sweeps.h); then the rest.
-        std::size_t firstContact = 0;
-        if (threads_ > 1 && halves) {
-            pushContactHalves(h, bodies);
-            firstContact = contactHalves_[0] + contactHalves_[1];
-        }
-        pushOutOfBodies(h, bodies, firstContact, contacts.size());
+        pushOutOfBodies(h, bodies, threads_ > 1 && halves ? contactGroups_.back() : 0, contacts.size());
     }
     catchMissedContacts(bodies);
 }
@@ -307,38 +318,25 @@ Vec3 SoftBodies::pushedOut(const Body& body, const Vec3& q, double r) const {
     return q;
 }
 
-void SoftBodies::groupContactsByHalf() {
-    const auto half = [this](const ParticleContact& c) {
-        const SoftMesh& mesh = meshes[meshOf[c.particle]];
-        if (mesh.firstHalfLinks == 0) return 2;
-        return c.particle < halvesCut(mesh) ? 0 : 1;
+void SoftBodies::groupContacts() {
+    // Each contact's group: 2 m + half for mesh m's halves, 2 M for the rest; then a counting sort.
+    for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 1;
+    const std::size_t rest = 2 * meshes.size();
+    const auto group = [this, rest](const ParticleContact& c) {
+        const std::uint32_t i = c.particle;
+        const SoftMesh& mesh = meshes[meshOf[i]];
+        if (mesh.firstHalfLinks == 0 || movedByRest_[i] || selfPaired_[i]) return rest;
+        return 2 * std::size_t{meshOf[i]} + (i < halvesCut(mesh) ? 0 : 1);
     };
-    grouped_.clear();
-    for (int group = 0; group < 3; ++group) {
-        for (const ParticleContact& c : contacts) {
-            if (half(c) == group) grouped_.push_back(c);
-        }
-        if (group < 2) contactHalves_[group] = grouped_.size() - (group == 1 ? contactHalves_[0] : 0);
-    }
+    groupEnds_.assign(rest + 1, 0);
+    for (const ParticleContact& c : contacts) ++groupEnds_[group(c)];
+    contactGroups_.assign(rest + 1, 0);
+    for (std::size_t g = 0; g < rest; ++g) contactGroups_[g + 1] = contactGroups_[g] + groupEnds_[g];
+    std::copy(contactGroups_.begin(), contactGroups_.end(), groupEnds_.begin());
+    grouped_.resize(contacts.size());
+    for (const ParticleContact& c : contacts) grouped_[groupEnds_[group(c)]++] = c;
     contacts.swap(grouped_);
-}
-
-void SoftBodies::pushContactHalves(double h, const std::vector<Body>& bodies) {
-    // What both halves need, captured by reference: std::function then keeps it in its own storage.
-    struct Push {
-        SoftBodies& soft;
-        const std::vector<Body>& bodies;
-        double h;
-    };
-    const Push push{*this, bodies, h};
-    const std::function<void()> first = [&push] {
-        push.soft.pushOutOfBodies(push.h, push.bodies, 0, push.soft.contactHalves_[0]);
-    };
-    const std::function<void()> second = [&push] {
-        const std::size_t begin = push.soft.contactHalves_[0];
-        push.soft.pushOutOfBodies(push.h, push.bodies, begin, begin + push.soft.contactHalves_[1]);
-    };
-    second_.run(true, first, second);
+    for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 0;
 }
 
 void SoftBodies::pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end) {

@@ -219,6 +219,9 @@ std::size_t SoftBodies::addMesh(SoftMesh mesh) {
         first[static_cast<std::ptrdiff_t>(k)] = built[stored.order[k]];
     mesh.firstHalfLinks = stored.first;
     mesh.secondHalfLinks = stored.second;
+    movedByRest_.resize(x.size(), 0);
+    selfPaired_.resize(x.size(), 0);
+    markMovedByTheRest(mesh, links, volumes, movedByRest_);
     meshes.push_back(std::move(mesh));
     force_.resize(x.size(), Vec3::Zero());
     return meshes.size() - 1;
@@ -533,6 +536,8 @@ void SoftBodies::clear() {
     contacts.clear();
     selfPairs.clear();
     force_.clear();
+    movedByRest_.clear();
+    selfPaired_.clear();
     wind_ = Vec3::Zero();
     windDrag_ = 0.0;
 }

@@ -10,43 +10,56 @@
 namespace gpl {
 namespace {
 
-// What one part's sweep needs: the plain loop's arguments, and the part's links [begin, end).
+// What one part's sweep needs: the plain loop's arguments, and what each half does after its links.
 struct HalfSweep {
+    const SoftMesh& mesh;
     std::vector<DistanceLink>& links;
     std::vector<Vec3>& p;
     const std::vector<double>& w;
-    SoftMethod method;
     double h;
     int iterations;
+    const std::function<void(int)>& then;
 };
 
-// The plain loop of SoftBodies::project() over links [begin, end).
+// The plain loop of SoftBodies::project() over links [begin, end). What it reads of `s` it keeps in
+// locals: `s` lies on the caller's stack, and the thread that reads it after every projection would
+// otherwise fetch that cache line anew each time the caller's own half writes its stack beside it.
 void sweepLinkRange(const HalfSweep& s, std::uint32_t begin, std::uint32_t end) {
-    std::vector<Vec3>& p = s.p;
-    const std::vector<double>& w = s.w;
-    if (s.method == SoftMethod::XPBD) {
+    DistanceLink* const links = s.links.data();
+    Vec3* const p = s.p.data();
+    const double* const w = s.w.data();
+    const double h = s.h;
+    if (s.mesh.method == SoftMethod::XPBD) {
         for (std::uint32_t k = begin; k < end; ++k) {
-            DistanceLink& link = s.links[k];
+            DistanceLink& link = links[k];
             const DistanceCorrection c = solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j], link.rest,
-                                                                 link.compliance, s.h, link.lambda);
+                                                                 link.compliance, h, link.lambda);
             p[link.i] += c.dx1;
             p[link.j] += c.dx2;
             link.lambda += c.dlambda;
         }
         return;
     }
+    const int iterations = s.iterations;
     double stiffness = -1.0, perSweep = 0.0;  // the last stiffness seen, and its per-sweep share
     for (std::uint32_t k = begin; k < end; ++k) {
-        const DistanceLink& link = s.links[k];
+        const DistanceLink& link = links[k];
         if (link.stiffness != stiffness) {
             stiffness = link.stiffness;
-            perSweep = 1.0 - std::pow(1.0 - stiffness, 1.0 / s.iterations);
+            perSweep = 1.0 - std::pow(1.0 - stiffness, 1.0 / iterations);
         }
         const DistanceCorrection c =
-            solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j], link.rest, 0.0, s.h, 0.0);
+            solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j], link.rest, 0.0, h, 0.0);
         p[link.i] += perSweep * c.dx1;
         p[link.j] += perSweep * c.dx2;
     }
+}
+
+// Half 0 or 1 of the mesh's links, then what the caller does after it.
+void sweepHalf(const HalfSweep& s, int half) {
+    const std::uint32_t begin = s.mesh.firstLink + (half == 0 ? 0 : s.mesh.firstHalfLinks);
+    sweepLinkRange(s, begin, begin + (half == 0 ? s.mesh.firstHalfLinks : s.mesh.secondHalfLinks));
+    s.then(half);
 }
 
 }  // namespace
@@ -79,17 +92,23 @@ HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cu
 }
 
 void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
-                 const std::vector<double>& w, double h, int iterations, SecondThread& second) {
-    const HalfSweep s{links, p, w, mesh.method, h, iterations};
-    // Each captures what fits in std::function's own storage: a step allocates nothing.
-    const std::function<void()> first = [&s, &mesh] {
-        sweepLinkRange(s, mesh.firstLink, mesh.firstLink + mesh.firstHalfLinks);
-    };
-    const std::function<void()> other = [&s, &mesh] {
-        const std::uint32_t begin = mesh.firstLink + mesh.firstHalfLinks;
-        sweepLinkRange(s, begin, begin + mesh.secondHalfLinks);
-    };
+                 const std::vector<double>& w, double h, int iterations, SecondThread& second,
+                 const std::function<void(int)>& then) {
+    const HalfSweep s{mesh, links, p, w, h, iterations, then};
+    // Each captures one reference, which fits in std::function's own storage: a step allocates nothing.
+    const std::function<void()> first = [&s] { sweepHalf(s, 0); };
+    const std::function<void()> other = [&s] { sweepHalf(s, 1); };
     second.run(true, first, other);
+}
+
+void markMovedByTheRest(const SoftMesh& mesh, const std::vector<DistanceLink>& links,
+                        const std::vector<TetVolume>& volumes, std::vector<char>& moved) {
+    if (mesh.firstHalfLinks == 0) return;
+    for (std::uint32_t k = mesh.firstLink + mesh.firstHalfLinks + mesh.secondHalfLinks;
+         k < mesh.firstLink + mesh.linkCount; ++k)
+        moved[links[k].i] = moved[links[k].j] = 1;
+    for (std::uint32_t k = mesh.firstVolume; k < mesh.firstVolume + mesh.volumeCount; ++k)
+        for (const std::uint32_t corner : volumes[k].v) moved[corner] = 1;
 }
 
 }  // namespace gpl

@@ -280,9 +280,16 @@ private:
     std::vector<std::uint32_t> cellEntries_;  ///< particles sorted by cell
     std::vector<std::uint32_t> nearby_;       ///< one particle's neighbours while they are collected
     int threads_ = defaultThreads();
-    SecondThread second_;                         ///< sweeps a cut mesh's second half (threads_ 2)
-    std::array<std::size_t, 2> contactHalves_{};  ///< this step's contacts of cut meshes' first and second halves
-    std::vector<ParticleContact> grouped_;        ///< the contacts while they are grouped
+    SecondThread second_;  ///< sweeps a cut mesh's second half (threads_ 2)
+    /// Per particle: a link or volume of a cut mesh's rest moves it (soft_sweeps.h), so its contacts
+    /// wait for the rest; set as the meshes are built.
+    std::vector<char> movedByRest_;
+    std::vector<char> selfPaired_;  ///< per particle: in a self-collision pair this step (while grouping)
+    /// This step's contact groups (soft_sweeps.h): mesh m's halves' contacts from contactGroups_[2 m]
+    /// and [2 m + 1] to the next group's start, the rest from contactGroups_[2 M] (M meshes) on.
+    std::vector<std::size_t> contactGroups_;
+    std::vector<std::size_t> groupEnds_;    ///< each group's end while the contacts are grouped
+    std::vector<ParticleContact> grouped_;  ///< the contacts while they are grouped
     static int defaultThreads();
 
     std::size_t addMesh(SoftMesh mesh);
@@ -290,10 +297,8 @@ private:
     void pushSelfPairs();
     /// Contacts [begin, end) pushed out of their bodies, with friction.
     void pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end);
-    /// The cut meshes' contacts: the first halves' and the second halves' at once, on two threads.
-    void pushContactHalves(double h, const std::vector<Body>& bodies);
-    /// Groups the contacts by the halves of their particles (soft_sweeps.h) and counts the groups.
-    void groupContactsByHalf();
+    /// Groups the contacts by the halves of their particles (soft_sweeps.h) into contactGroups_.
+    void groupContacts();
     Vec3 pushedOut(const Body& body, const Vec3& q, double r) const;
     /// Moves the contact's particle (radius r) to `moved` and counts the push; false when it moves
     /// no more than the rounding of a particle on the surface.

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "gpl/math.h"
@@ -41,17 +42,29 @@ struct HalvesOrder {
 };
 HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cut, std::size_t particles);
 
-/// SoftBodies::project() also groups the step's contacts: those of the cut meshes' first halves'
-/// particles, then of their second halves', then the rest, each group in the order found. A contact
-/// moves its own particle only, so contacts of different particles give the same result in any order,
-/// and a particle's contacts keep theirs: two threads push the two halves' contacts out at once, with
-/// the result of one thread to the bit.
+/// SoftBodies::project() also groups the step's contacts: for each cut mesh in turn, those of its first
+/// half's particles that may go with the half's links, then its second half's; then the rest, each
+/// group in the order found. A particle's contacts may go with its half's links when nothing else
+/// of the sweep moves the particle after them: no link or volume of the rest (a cut mesh's volumes
+/// are all of the rest), and no self-collision pair this step. A contact moves its own particle
+/// only, so contacts of different particles give the same result in any order, and a particle's
+/// contacts keep theirs: pushed out right after their half's links, on that half's thread, they give
+/// the result of the plain loop (every link, the self-collision pairs, then every contact) to the bit.
+///
 /// One sweep of a cut mesh's halves (mesh.firstHalfLinks > 0), as the plain loop of
 /// SoftBodies::project() sweeps their links for the mesh's method (XPBD: solveDistanceConstraint()
 /// with the compliance, the multiplier summed; PBD: with alpha = 0, the move scaled by the per-sweep
-/// share of the stiffness over `iterations`): the two at once, the second on `second` (or here after
-/// the first, while the machine gives that thread no core). The rest of the links are the caller's.
+/// share of the stiffness over `iterations`), each followed on its thread by then(half), half 0 or
+/// 1 (the caller pushes out that half's contacts there): the two at once, the second on `second` (or
+/// here after the first, while the machine gives that thread no core). The rest of the links are the
+/// caller's.
 void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
-                 const std::vector<double>& w, double h, int iterations, SecondThread& second);
+                 const std::vector<double>& w, double h, int iterations, SecondThread& second,
+                 const std::function<void(int)>& then);
+
+/// Sets moved[i] (1) for each particle i that a link or volume of a cut mesh's rest moves (links and
+/// volumes of neither half): its contacts wait for the rest. Nothing for a mesh that is not cut.
+void markMovedByTheRest(const SoftMesh& mesh, const std::vector<DistanceLink>& links,
+                        const std::vector<TetVolume>& volumes, std::vector<char>& moved);
 
 }  // namespace gpl
