@@ -15,6 +15,46 @@
 #include "gpl/halves.h"
 
 namespace gpl {
+namespace {
+
+/// x != y without branches: the sweeps ask it of every contact they solve, and the answer is
+/// mostly "changed".
+bool differs(const Vec3& x, const Vec3& y) { return (x[0] != y[0]) | (x[1] != y[1]) | (x[2] != y[2]); }
+
+/// A body's velocities before a contact's solve.
+struct Velocities {
+    Vec3 v, w;
+    explicit Velocities(const Body& body) : v(body.velocity), w(body.angularVelocity) {}
+    bool differ(const Body& body) const { return differs(body.velocity, v) | differs(body.angularVelocity, w); }
+};
+
+/// One contact's solve: its points' normal impulses (twice over for more than one point: the points
+/// of a face share its load, and after one pass the first holds more than its share), then their
+/// friction. True when it changed a sum.
+bool solveContact(const ContactPoint* points, PointImpulse* sums, int count, Body& a, Body& b) {
+    if (count == 1) {
+        const double normal = sums[0].normal;
+        const Vec3 tangent = sums[0].tangent;
+        applyNormalImpulse(points[0], a, b, sums[0]);
+        applyFrictionImpulse(points[0], a, b, sums[0]);
+        return (sums[0].normal != normal) | differs(sums[0].tangent, tangent);
+    }
+    std::array<double, kMaxContactPoints> normals;
+    std::array<Vec3, kMaxContactPoints> tangents;
+    for (int k = 0; k < count; ++k) {
+        normals[k] = sums[k].normal;
+        tangents[k] = sums[k].tangent;
+    }
+    for (int pass = 0; pass < 2; ++pass) {
+        for (int k = 0; k < count; ++k) applyNormalImpulse(points[k], a, b, sums[k]);
+    }
+    for (int k = 0; k < count; ++k) applyFrictionImpulse(points[k], a, b, sums[k]);
+    bool changed = false;
+    for (int k = 0; k < count; ++k) changed |= (sums[k].normal != normals[k]) | differs(sums[k].tangent, tangents[k]);
+    return changed;
+}
+
+}  // namespace
 
 void Halves::whole(std::size_t bodies) {
     cut_ = false;
@@ -196,9 +236,7 @@ void ContactSweeps::split(const std::vector<Contact>& contacts, const std::vecto
     }
     for (Part& part : parts_) {
         part.points.resize(part.sums.size());
-        part.seenA.assign(part.sums.size(), 0);
-        part.seenB.assign(part.sums.size(), 0);
-        part.idle.assign(part.sums.size(), 0);
+        part.records.assign(part.sums.size(), Record{});
         part.shared.clear();
     }
     if (!halves_.cutInTwo()) return;
@@ -222,36 +260,21 @@ void ContactSweeps::solve(Part& part, bool skipIdle) {
         __builtin_prefetch(reinterpret_cast<const char*>(b) + 64, 1);
     }
     for (const Job& job : part.jobs) {
-        Body& a = *job.a;
-        Body& b = *job.b;
+        // A contact is solved whole, as in the plain loop (friction.cpp), and skipped whole. Its
+        // first point holds the contact's record.
+        Record& record = part.records[job.point];
         std::uint32_t& versionA = *job.versionA;
         std::uint32_t& versionB = *job.versionB;
-        // A contact is solved whole, as in the plain loop (friction.cpp): its points' normal
-        // impulses (twice for more than one point), then their friction; and skipped whole. Its
-        // first point holds the contact's record.
-        const std::size_t first = job.point;
-        const int count = job.contact->pointCount;
-        if (skipIdle && part.idle[first] && part.seenA[first] == versionA && part.seenB[first] == versionB) continue;
-        std::array<PointImpulse, kMaxContactPoints> sumsWere;
-        std::copy_n(&part.sums[first], count, sumsWere.begin());
-        const Vec3 va = a.velocity, wa = a.angularVelocity, vb = b.velocity, wb = b.angularVelocity;
-        const int normalPasses = count > 1 ? 2 : 1;
-        for (int pass = 0; pass < normalPasses; ++pass) {
-            for (int k = 0; k < count; ++k) applyNormalImpulse(part.points[first + k], a, b, part.sums[first + k]);
-        }
-        for (int k = 0; k < count; ++k) applyFrictionImpulse(part.points[first + k], a, b, part.sums[first + k]);
-        const bool aChanged = a.velocity != va || a.angularVelocity != wa;
-        const bool bChanged = b.velocity != vb || b.angularVelocity != wb;
-        bool sumsChanged = false;
-        for (int k = 0; k < count; ++k) {
-            const PointImpulse& s = part.sums[first + k];
-            sumsChanged |= s.normal != sumsWere[k].normal || s.tangent != sumsWere[k].tangent;
-        }
+        if (skipIdle && record.idle && record.seenA == versionA && record.seenB == versionB) continue;
+        Body& a = *job.a;
+        Body& b = *job.b;
+        const Velocities wereA(a), wereB(b);
+        const bool sumsChanged = solveContact(&part.points[job.point], &part.sums[job.point], job.contact->pointCount, a, b);
+        const bool aChanged = wereA.differ(a);
+        const bool bChanged = wereB.differ(b);
         if (aChanged) ++versionA;  // written only on a change: a store would claim the line
         if (bChanged) ++versionB;
-        part.seenA[first] = versionA;
-        part.seenB[first] = versionB;
-        part.idle[first] = !aChanged && !bChanged && !sumsChanged;
+        record = {versionA, versionB, !aChanged && !bChanged && !sumsChanged};
     }
 }
 

@@ -99,14 +99,14 @@ ContactMemory::Pairing ContactMemory::pairUp(const Entry& old, bool flipped, con
 }
 
 void ContactMemory::match(const Entry* old, bool flipped, const Contact& contact, const Body& a, const Body& b,
-                          PointImpulse* sums) const {
+                          PointImpulse* sums, const Pairing* paired) const {
     const int count = contact.pointCount;
     for (int k = 0; k < count; ++k) {
         sums[k].normal = 0.0;
         sums[k].tangent = Vec3::Zero();
     }
     if (old == nullptr) return;
-    const Pairing pairing = pairUp(*old, flipped, contact, a, b);
+    const Pairing pairing = paired != nullptr ? *paired : pairUp(*old, flipped, contact, a, b);
     // The sums of the points continued, and of those that no point continues.
     std::array<bool, kMaxContactPoints> continued{};
     double kept = 0.0;  // N s
@@ -166,16 +166,9 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
         before_[i] = {bodies[i].velocity, bodies[i].angularVelocity};
         invI_[i] = worldInverseInertia(bodies[i]);
     }
-    // The points' sums: contact c's points start at first_[c]; last step's entry of each pair.
+    // The points' sums: contact c's points start at first_[c].
     first_.assign(contacts.size() + 1, 0);
-    remembered_.resize(contacts.size());
-    flipped_.resize(contacts.size());
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
-        first_[c + 1] = first_[c] + contacts[c].pointCount;
-        bool flipped = false;
-        remembered_[c] = memory_.find(contacts[c].a, contacts[c].b, flipped);
-        flipped_[c] = flipped;
-    }
+    for (std::size_t c = 0; c < contacts.size(); ++c) first_[c + 1] = first_[c] + contacts[c].pointCount;
     sums_.assign(first_.back(), PointImpulse{});
     // Each point's overlap now, along the normal through it (the contact's depth where that line
     // misses a body).
@@ -255,6 +248,10 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
 }
 
 void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts) {
+    remembered_.assign(contacts.size(), nullptr);
+    flipped_.assign(contacts.size(), 0);
+    paired_.assign(contacts.size(), 0);
+    pairings_.resize(contacts.size());
     if (memory_.entries.empty()) return;
     for (const ContactMemory::Entry& e : memory_.entries) e.found = false;
     // Where last step's point k of a pair is now, and whether it still touches along normal n:
@@ -291,6 +288,8 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
         Contact& con = contacts[c];
         bool flipped = false;
         const ContactMemory::Entry* old = memory_.find(con.a, con.b, flipped);
+        remembered_[c] = old;
+        flipped_[c] = flipped;
         if (old == nullptr) continue;
         old->found = true;
         if (con.pointCount >= kMaxContactPoints) continue;  // no room for a point kept
@@ -301,9 +300,15 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
             if (pairing[k] != ContactMemory::kNone) continued[pairing[k] - old->first] = true;
         }
         const Vec3 n = flipped ? Vec3(-con.normal) : con.normal;  // in the entry's order
+        const int reported = con.pointCount;
         for (std::uint32_t q = 0; q < old->pointCount && con.pointCount < kMaxContactPoints; ++q) {
             if (continued[q]) continue;
             if (const std::optional<Vec3> p = touching(*old, old->first + q, n)) con.points[con.pointCount++] = *p;
+        }
+        // The contact as it was: its warm start pairs it up the same way (match()).
+        if (con.pointCount == reported) {
+            pairings_[c] = pairing;
+            paired_[c] = 1;
         }
     }
     // Pairs whose contact the kernels no longer report: their points that still touch.
@@ -323,14 +328,21 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
                 con.depth = std::max(con.depth, depthAlong(bodies[e.a], bodies[e.b], *p, e.normal, kKeepGap));
             }
         }
-        if (con.pointCount > 0) contacts.push_back(con);
+        if (con.pointCount > 0) {
+            contacts.push_back(con);
+            bool flipped = false;
+            remembered_.push_back(memory_.find(con.a, con.b, flipped));  // the pair's first entry
+            flipped_.push_back(flipped);
+            paired_.push_back(0);
+        }
     }
+    pairings_.resize(contacts.size());
 }
 
 void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b,
                           PointImpulse* sums) const {
     const Contact& con = contacts[c];
-    memory_.match(remembered_[c], flipped_[c], con, a, b, sums);
+    memory_.match(remembered_[c], flipped_[c], con, a, b, sums, paired_[c] ? &pairings_[c] : nullptr);
     for (int k = 0; k < con.pointCount; ++k) sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
 }
 

@@ -83,9 +83,9 @@ double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n, do
 
 void SplitImpulses::add(std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth,
                         const std::vector<Body>& bodies, const Mat3& invIa, const Mat3& invIb) {
-    Point q{a, b, p - bodies[a].position, p - bodies[b].position, n, 0.0, depth};
+    Point q{a, b, p - bodies[a].position, p - bodies[b].position, n, bodies[a].invMass, bodies[b].invMass, 0.0, depth};
     const Vec3 ran = q.ra.cross(n), rbn = q.rb.cross(n);
-    q.wn = bodies[a].invMass + bodies[b].invMass + ran.dot(invIa * ran) + rbn.dot(invIb * rbn);
+    q.wn = q.ma + q.mb + ran.dot(invIa * ran) + rbn.dot(invIb * rbn);
     if (q.wn > 0.0) points_.push_back(q);
 }
 
@@ -109,8 +109,8 @@ void SplitImpulses::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI
             const double sum = std::max(0.0, q.sum + (q.target - vn) / q.wn);
             const Vec3 impulse = (sum - q.sum) * q.n;  // N s, on b; -impulse on a
             q.sum = sum;
-            va -= bodies[q.a].invMass * impulse;
-            vb += bodies[q.b].invMass * impulse;
+            va -= q.ma * impulse;
+            vb += q.mb * impulse;
             wa -= invI[q.a] * q.ra.cross(impulse);
             wb += invI[q.b] * q.rb.cross(impulse);
         }

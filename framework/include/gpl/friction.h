@@ -156,13 +156,17 @@ private:
         std::size_t point;  ///< its first point in the part's arrays (the stage's: `global`)
         std::size_t global;
     };
+    /// A contact's last solve.
+    struct Record {
+        std::uint32_t seenA = 0, seenB = 0;  ///< its bodies' versions then
+        bool idle = false;                   ///< it changed nothing
+    };
     /// What one part solves, with its own arrays (a second thread writes nothing the first reads).
     struct alignas(64) Part {  // on cache lines of its own: the two threads write their parts
         std::vector<Job> jobs;
         std::vector<PointImpulse> sums;           ///< per point, copied in and out of the stage's
         std::vector<ContactPoint> points;         ///< per point, prepared by the first pass
-        std::vector<std::uint32_t> seenA, seenB;  ///< per point: its bodies' versions at its last solve
-        std::vector<char> idle;                   ///< per point: its last solve changed nothing
+        std::vector<Record> records;              ///< per point (a contact's at its first point)
         /// Its bodies that another part writes too (of pairs across the cut), asked for before each
         /// solve: the other thread has most likely written them last.
         std::vector<const Body*> shared;
@@ -252,8 +256,9 @@ struct ContactMemory {
     /// and its total friction impulse are kept when the kernels return fewer points, or others,
     /// and a face that loses a corner does not drop that corner's load for a step. The moments
     /// of the loads change; the sweeps set them right.
+    /// `paired`, when given, is pairUp()'s answer for this contact, found before.
     void match(const Entry* old, bool flipped, const Contact& contact, const Body& a, const Body& b,
-               PointImpulse* sums) const;
+               PointImpulse* sums, const Pairing* paired = nullptr) const;
 
     void clear() {
         entries.clear();
@@ -289,6 +294,9 @@ private:
     std::vector<double> depths_;             ///< per contact point: its overlap (m)
     std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
     std::vector<char> flipped_;              ///< per contact: that entry has the pair in the other order
+    /// Per contact: keepPoints()'s pairUp() of it, where it kept no point (paired_), for match().
+    std::vector<ContactMemory::Pairing> pairings_;
+    std::vector<char> paired_;
     ContactSweeps sweeps_;                   ///< the sweeps of a large stage, in halves
     SplitImpulses split_;                    ///< the position correction
     SoftStep soft_;                          ///< the soft step solver
@@ -298,7 +306,8 @@ private:
     /// Adds to the step's contacts the points of last step that the kernels no longer report and
     /// that still touch: within kKeepGap of touching, slid less than kKeepSlide, continued by no
     /// point of this step (ContactMemory::pairUp()), up to kMaxContactPoints a contact; and a
-    /// contact of such points for a pair the kernels report no more.
+    /// contact of such points for a pair the kernels report no more. Finds each contact's entry of
+    /// last step (remembered_, flipped_) on the way.
     void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts);
     /// The first pass (start, prepare, warm start) and the sweeps of a small stage: the plain loop
     /// (see step()).

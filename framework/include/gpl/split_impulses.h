@@ -47,6 +47,7 @@ private:
         std::size_t a, b;
         Vec3 ra, rb;   ///< lever arms from the centres of mass (m)
         Vec3 n;        ///< normal, from a towards b
+        double ma, mb;  ///< the bodies' inverse masses (1/kg)
         double wn;     ///< inverse effective mass along n (1/kg)
         double depth;  ///< overlap expected at the end of the step (m)
         double target = 0.0;  ///< pseudo velocity of separation the point asks for (m/s)
