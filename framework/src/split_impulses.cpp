@@ -97,14 +97,13 @@ void SplitImpulses::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI
         any |= q.target > 0.0;
     }
     if (!any) return;
-    velocity_.assign(bodies.size(), Vec3::Zero());
-    angularVelocity_.assign(bodies.size(), Vec3::Zero());
+    pseudo_.assign(bodies.size(), Pseudo{});
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         for (Point& q : points_) {
-            Vec3& va = velocity_[q.a];
-            Vec3& vb = velocity_[q.b];
-            Vec3& wa = angularVelocity_[q.a];
-            Vec3& wb = angularVelocity_[q.b];
+            Vec3& va = pseudo_[q.a].v;
+            Vec3& vb = pseudo_[q.b].v;
+            Vec3& wa = pseudo_[q.a].w;
+            Vec3& wb = pseudo_[q.b].w;
             const double vn = q.n.dot(vb + wb.cross(q.rb) - va - wa.cross(q.ra));  // m/s, > 0 separating
             const double sum = std::max(0.0, q.sum + (q.target - vn) / q.wn);
             const Vec3 impulse = (sum - q.sum) * q.n;  // N s, on b; -impulse on a
@@ -118,8 +117,8 @@ void SplitImpulses::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI
     for (std::size_t i = 0; i < bodies.size(); ++i) {
         Body& body = bodies[i];
         if (body.isStatic()) continue;
-        body.position += h * velocity_[i];
-        const Vec3 turn = h * angularVelocity_[i];  // rad, world frame
+        body.position += h * pseudo_[i].v;
+        const Vec3 turn = h * pseudo_[i].w;  // rad, world frame
         if (!turn.isZero(0.0)) {
             const double angle = turn.norm();
             body.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * body.orientation).normalized();

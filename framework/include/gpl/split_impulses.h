@@ -54,7 +54,12 @@ private:
         double sum = 0.0;     ///< summed pseudo impulse (N s), >= 0
     };
     std::vector<Point> points_;
-    std::vector<Vec3> velocity_, angularVelocity_;  ///< per body: the pseudo velocities
+    /// A body's pseudo velocities, together on one cache line.
+    struct Pseudo {
+        Vec3 v = Vec3::Zero();  ///< m/s
+        Vec3 w = Vec3::Zero();  ///< rad/s, world frame
+    };
+    std::vector<Pseudo> pseudo_;  ///< per body
 };
 
 }  // namespace gpl
