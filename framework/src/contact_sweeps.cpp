@@ -17,15 +17,11 @@
 namespace gpl {
 namespace {
 
-/// x != y without branches: the sweeps ask it of every contact they solve, and the answer is
-/// mostly "changed".
-bool differs(const Vec3& x, const Vec3& y) { return (x[0] != y[0]) | (x[1] != y[1]) | (x[2] != y[2]); }
-
 /// A body's velocities before a contact's solve.
 struct Velocities {
     Vec3 v, w;
     explicit Velocities(const Body& body) : v(body.velocity), w(body.angularVelocity) {}
-    bool differ(const Body& body) const { return differs(body.velocity, v) | differs(body.angularVelocity, w); }
+    bool differ(const Body& body) const { return body.velocity != v || body.angularVelocity != w; }
 };
 
 /// One contact's solve: its points' normal impulses (twice over for more than one point: the points
@@ -37,7 +33,7 @@ bool solveContact(const ContactPoint* points, PointImpulse* sums, int count, Bod
         const Vec3 tangent = sums[0].tangent;
         applyNormalImpulse(points[0], a, b, sums[0]);
         applyFrictionImpulse(points[0], a, b, sums[0]);
-        return (sums[0].normal != normal) | differs(sums[0].tangent, tangent);
+        return sums[0].normal != normal || sums[0].tangent != tangent;
     }
     std::array<double, kMaxContactPoints> normals;
     std::array<Vec3, kMaxContactPoints> tangents;
@@ -50,7 +46,7 @@ bool solveContact(const ContactPoint* points, PointImpulse* sums, int count, Bod
     }
     for (int k = 0; k < count; ++k) applyFrictionImpulse(points[k], a, b, sums[k]);
     bool changed = false;
-    for (int k = 0; k < count; ++k) changed |= (sums[k].normal != normals[k]) | differs(sums[k].tangent, tangents[k]);
+    for (int k = 0; k < count; ++k) changed = changed || sums[k].normal != normals[k] || sums[k].tangent != tangents[k];
     return changed;
 }
 
