@@ -59,7 +59,7 @@ TEST(SoftHalves, SelfCollidingClothOnTwoThreadsGivesTheSameStateAsOnOne) {
         c.selfCollision = true;
         soft.addCloth(c);
         EXPECT_GT(soft.meshes[0].firstHalfLinks, 0u);
-        stepped = stepSoft(soft, bodies, 150);
+        stepped = stepSoft(soft, bodies, 60);
         return soft;
     };
     Stepped one, two;
@@ -82,7 +82,7 @@ TEST(SoftHalves, LargeSoftBodyOnTwoThreadsGivesTheSameStateAsOnOne) {
         soft.addSoftBody(makeSoftBall("ball", Vec3(0.0, 0.9, 0.0), 0.4, 10));
         EXPECT_GT(soft.meshes[0].firstHalfLinks, 0u);
         EXPECT_GT(soft.meshes[0].volumeCount, 0u);
-        const Stepped stepped = stepSoft(soft, bodies, 90);
+        const Stepped stepped = stepSoft(soft, bodies, 60);
         EXPECT_GT(stepped.withContacts, 10);
         return soft;
     };
