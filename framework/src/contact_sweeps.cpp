@@ -265,7 +265,8 @@ void ContactSweeps::solve(Part& part, bool skipIdle) {
         Body& a = *job.a;
         Body& b = *job.b;
         const Velocities wereA(a), wereB(b);
-        const bool sumsChanged = solveContact(&part.points[job.point], &part.sums[job.point], job.contact->pointCount, a, b);
+        const bool sumsChanged =
+            solveContact(&part.points[job.point], &part.sums[job.point], job.contact->pointCount, a, b);
         const bool aChanged = wereA.differ(a);
         const bool bChanged = wereB.differ(b);
         if (aChanged) ++versionA;  // written only on a change: a store would claim the line

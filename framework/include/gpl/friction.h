@@ -164,9 +164,9 @@ private:
     /// What one part solves, with its own arrays (a second thread writes nothing the first reads).
     struct alignas(64) Part {  // on cache lines of its own: the two threads write their parts
         std::vector<Job> jobs;
-        std::vector<PointImpulse> sums;           ///< per point, copied in and out of the stage's
-        std::vector<ContactPoint> points;         ///< per point, prepared by the first pass
-        std::vector<Record> records;              ///< per point (a contact's at its first point)
+        std::vector<PointImpulse> sums;    ///< per point, copied in and out of the stage's
+        std::vector<ContactPoint> points;  ///< per point, prepared by the first pass
+        std::vector<Record> records;       ///< per point (a contact's at its first point)
         /// Its bodies that another part writes too (of pairs across the cut), asked for before each
         /// solve: the other thread has most likely written them last.
         std::vector<const Body*> shared;
@@ -257,8 +257,8 @@ struct ContactMemory {
     /// and a face that loses a corner does not drop that corner's load for a step. The moments
     /// of the loads change; the sweeps set them right.
     /// `paired`, when given, is pairUp()'s answer for this contact, found before.
-    void match(const Entry* old, bool flipped, const Contact& contact, const Body& a, const Body& b,
-               PointImpulse* sums, const Pairing* paired = nullptr) const;
+    void match(const Entry* old, bool flipped, const Contact& contact, const Body& a, const Body& b, PointImpulse* sums,
+               const Pairing* paired = nullptr) const;
 
     void clear() {
         entries.clear();

@@ -45,11 +45,11 @@ public:
 private:
     struct Point {
         std::size_t a, b;
-        Vec3 ra, rb;   ///< lever arms from the centres of mass (m)
-        Vec3 n;        ///< normal, from a towards b
-        double ma, mb;  ///< the bodies' inverse masses (1/kg)
-        double wn;     ///< inverse effective mass along n (1/kg)
-        double depth;  ///< overlap expected at the end of the step (m)
+        Vec3 ra, rb;          ///< lever arms from the centres of mass (m)
+        Vec3 n;               ///< normal, from a towards b
+        double ma, mb;        ///< the bodies' inverse masses (1/kg)
+        double wn;            ///< inverse effective mass along n (1/kg)
+        double depth;         ///< overlap expected at the end of the step (m)
         double target = 0.0;  ///< pseudo velocity of separation the point asks for (m/s)
         double sum = 0.0;     ///< summed pseudo impulse (N s), >= 0
     };
