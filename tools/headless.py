@@ -7,6 +7,9 @@ The display is an Xvfb server that picks a free display number itself (-displayf
 these can run at once; the server is stopped when the command ends. The status is always the
 command's own (128 + the signal's number when a signal ended it), or 1 with one line on stderr when
 the display could not be started: nothing of the display's own housekeeping stands in for it.
+
+Tests that open many windows one after another import `Display` instead: one server for all of
+them, since every server start compiles a keymap (xkbcomp), most of a short run's cost.
 """
 import os
 import re
@@ -43,6 +46,35 @@ def start_display(size):
         return None, "Xvfb did not start" + (f": {why[-1]}" if why else "")
     server.stderr.close()  # its warnings are of no use to the command's caller
     return server, f":{number.strip().decode()}"
+
+
+class Display:
+    """A virtual display that outlives the commands run on it:
+
+        with Display() as display:
+            subprocess.run(command, env=display.environment())
+
+    Raises RuntimeError with the reason when the server cannot start."""
+
+    def __init__(self, size="1280x720"):
+        self.size = size
+        self.server = None
+        self.name = None
+
+    def __enter__(self):
+        self.server, self.name = start_display(self.size)
+        if self.server is None:
+            raise RuntimeError(f"headless: {self.name}")
+        return self
+
+    def __exit__(self, *exc):
+        self.server.terminate()
+        self.server.wait()
+        return False
+
+    def environment(self, base=None):
+        """The environment a command on this display runs with (os.environ's, or base's)."""
+        return {**(os.environ if base is None else base), "DISPLAY": self.name}
 
 
 def main(argv):

@@ -4,17 +4,22 @@ the default window size with the panel open and the reference ghost on, and ever
 viewSeconds the viewer reports where each moving body is drawn (its bounding sphere projected by the
 camera the renderer uses; a cloth, rope or soft body as the spheres of its particles) and where the
 overlay is."""
+import contextlib
 import json
 import os
 import pathlib
+import queue
 import subprocess
 import sys
 import unittest
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
-# Runs a command on a virtual display of its own (tools/headless.py); the status is the command's.
-HEADLESS = [sys.executable, str(ROOT / "tools" / "headless.py")]
+sys.path.insert(0, str(ROOT / "tools"))
+import headless  # noqa: E402  (the virtual displays the viewer runs on)
+
+# Scenes tracked at once, each worker on a display of its own.
+WORKERS = 2
 VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 RUNNER = os.environ.get("GPL_RUN_SOLUTIONS")
 # Libraries to preload into the viewer in a sanitizer build (tests/CMakeLists.txt says why).
@@ -26,9 +31,9 @@ DUMP_SECONDS = 0.1
 
 
 
-def viewer(*args, timeout=300):
-    cmd = [*HEADLESS, *PRELOAD, VIEWER, *map(str, args)]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+def viewer(display, *args, timeout=300):
+    cmd = [*PRELOAD, VIEWER, *map(str, args)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=display.environment())
     states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
     return proc.returncode, states, proc.stdout[-2000:] + proc.stderr[-2000:]
 
@@ -40,16 +45,25 @@ def course_scenes():
     return [(key, name) for key, name, _ in rows if key not in ("F11", "F12")]
 
 
-def track(scene):
-    """The view reports of one scene over its viewSeconds, one every 0.1 s."""
-    _, first, out = viewer(scene, "--ghost", "--script", "dump; quit")
+def track(scene, displays):
+    """The view reports of one scene over its viewSeconds, one every 0.1 s, on a display taken from
+    the queue displays (and given back)."""
+    display = displays.get()
+    try:
+        return track_on(display, scene)
+    finally:
+        displays.put(display)
+
+
+def track_on(display, scene):
+    _, first, out = viewer(display, scene, "--ghost", "--script", "dump; quit")
     if not first:
         return scene, None, out
     seconds = first[0]["view"]["seconds"]
     dumps = int(round(seconds / DUMP_SECONDS))
     # "wait 0" lets the frame it is read in pass: one frame, 0.1 s, between reports.
     script = f"set speed {SPEED}; dump; " + "wait 0; dump; " * dumps + "quit"
-    code, states, out = viewer(scene, "--ghost", "--script", script)
+    code, states, out = viewer(display, scene, "--ghost", "--script", script)
     return scene, (code, states), out
 
 
@@ -58,8 +72,12 @@ class ViewHints(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.scenes = course_scenes()
-        with ThreadPoolExecutor(max_workers=2) as pool:
-            cls.tracks = {name: result for name, *result in pool.map(track, [n for _, n in cls.scenes])}
+        with contextlib.ExitStack() as stack, ThreadPoolExecutor(max_workers=WORKERS) as pool:
+            displays = queue.Queue()
+            for _ in range(WORKERS):
+                displays.put(stack.enter_context(headless.Display()))
+            names = [n for _, n in cls.scenes]
+            cls.tracks = {name: result for name, *result in pool.map(track, names, [displays] * len(names))}
 
     def test_there_are_course_scenes(self):
         self.assertGreaterEqual(len(self.scenes), 16)

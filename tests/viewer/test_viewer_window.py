@@ -16,6 +16,8 @@ ASSIGNMENTS = os.environ.get("GPL_VIEWER_ASSIGNMENTS")
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 # Runs a command on a virtual display of its own (tools/headless.py); the status is the command's.
 HEADLESS = [sys.executable, str(ROOT / "tools" / "headless.py")]
+sys.path.insert(0, str(ROOT / "tools"))
+import headless  # noqa: E402  (DISPLAY, below: the display the viewer's windows open on one after another)
 # Libraries to preload into the viewer, set by CTest in a sanitizer build (tests/CMakeLists.txt says why).
 PRELOAD = os.environ.get("GPL_VIEWER_PRELOAD")
 START = ["env", f"LD_PRELOAD={PRELOAD}"] if PRELOAD else []
@@ -23,10 +25,24 @@ SKY = (204, 217, 230)  # the background colour (0.80, 0.85, 0.90)
 
 
 
+DISPLAY = None
+
+
+def setUpModule():
+    global DISPLAY
+    if SOLUTIONS and ASSIGNMENTS:
+        DISPLAY = headless.Display().__enter__()
+
+
+def tearDownModule():
+    if DISPLAY:
+        DISPLAY.__exit__(None, None, None)
+
+
 def viewer(binary, *args, timeout=120):
-    """Runs the viewer on a fresh Xvfb display; returns (exit status, state dumps, output)."""
-    cmd = [*HEADLESS, *START, binary, *map(str, args)]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    """Runs the viewer on the module's Xvfb display; returns (exit status, state dumps, output)."""
+    cmd = [*START, binary, *map(str, args)]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=DISPLAY.environment())
     states = [json.loads(line[len("state "):]) for line in proc.stdout.splitlines() if line.startswith("state ")]
     return proc.returncode, states, proc.stdout + proc.stderr
 
