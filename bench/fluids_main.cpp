@@ -44,6 +44,7 @@ struct Plan {
     int costSteps = 5;
     int limitSize = 50000;
     int runs = 5;
+    int threads = 1;  // the fluids' in the cost and limit parts
     double damBreakT = 4.2;
 };
 
@@ -64,6 +65,13 @@ Plan quickPlan() {
 }
 
 std::string percent(double relative) { return std::isinf(relative) ? "blew up" : fixed(100.0 * relative, 2); }
+
+// What the cost and limit parts time.
+std::string timeKind(const Plan& plan) {
+    return plan.threads == 1 ? "the thread's CPU time"
+                             : "the fluids on two threads timed by the wall clock (the search alone and the bare "
+                               "loop on one thread, its CPU time)";
+}
 
 // n with n^3 nearest to `particles`.
 int cubeSide(int particles) { return std::max(2, static_cast<int>(std::lround(std::cbrt(particles)))); }
@@ -154,8 +162,9 @@ void stiffnessPart(Output& output, const Plan& plan) {
 // 3. What a step costs per particle against N, with the fitted exponents.
 void costPart(Output& output, const Plan& plan, const std::vector<int>& sizes) {
     std::cout << "\n3. cost against N: a cube of n x n x n particles 0.025 m apart at rest in a closed tank as "
-                 "wide, 1.5 times as tall (N = n^3 nearest the size asked for); the thread's CPU time, median of "
-              << plan.costSteps << " steps after 2 untimed; PBF: its four stages, 4 iterations, h = 5 ms; WCSPH: "
+                 "wide, 1.5 times as tall (N = n^3 nearest the size asked for); "
+              << timeKind(plan) << ", median of " << plan.costSteps
+              << " steps after 2 untimed; PBF: its four stages, 4 iterations, h = 5 ms; WCSPH: "
               << "one substep at the CFL bound (c = 20 m/s), and a step of 5 ms, which takes that many substeps; "
               << "ns per particle and step; exponent: least squares of log(time per step) on log N\n";
     const std::vector<std::size_t> widths{10, 12, 14, 16, 18, 16};
@@ -168,7 +177,7 @@ void costPart(Output& output, const Plan& plan, const std::vector<int>& sizes) {
            "\"neighbour search\" \"bare poly6 loop\"\n";
     std::vector<double> n, pbf, sph;
     for (int size : sizes) {
-        const auto c = gpl::study::measureCost(cubeSide(size), 4, 0.005, 2, plan.costSteps);
+        const auto c = gpl::study::measureCost(cubeSide(size), 4, 0.005, 2, plan.costSteps, plan.threads);
         const double p = c.particles;
         row({std::to_string(c.particles), fixed(c.neighbours, 1), fixed(c.pbfStepNs() / p, 0),
              fixed(c.sphSubstepNs / p, 0), fixed(c.sphStepNs() / p, 0), fixed(c.pbfStepNs() * 1e-6, 1)},
@@ -196,11 +205,11 @@ void limitPart(Output& output, const Plan& plan) {
     std::cout << "\n4. the limit: a cube of " << n << "^3 = " << n * n * n
               << " particles as in part 3, each stage and the bare loop (every particle's poly6 density summed over "
                  "the same grid's neighbours, poly6 written out, nothing else) taking turns in one run, "
-              << plan.runs << " timed steps, the thread's CPU time, medians; an iteration-equivalent: PBF's whole "
+              << plan.runs << " timed steps, " << timeKind(plan) << ", medians; an iteration-equivalent: PBF's whole "
               << "step over its 4 iterations (each iteration three passes over the neighbours: densities, "
               << "multipliers, moves; the push out of the walls; the step's search, prediction and XSPH shared out), "
               << "and one WCSPH substep (its search, densities, forces, push)\n";
-    const auto c = gpl::study::measureCost(n, 4, 0.005, 2, plan.runs);
+    const auto c = gpl::study::measureCost(n, 4, 0.005, 2, plan.runs, plan.threads);
     const double p = c.particles;
     const std::vector<std::size_t> widths{44, 12, 14, 10};
     row({"part", "ns/particle", "ms", "x bare"}, widths);
@@ -291,6 +300,10 @@ int main(int argc, char** argv) {
         ->check(gpl::cli::wholeNumber(8, 2000000));
     app.add_option("--runs", plan.runs, "timed steps of the limit part; the median is kept (default 5)")
         ->check(gpl::cli::wholeNumber(1, 99));
+    app.add_option("--threads", plan.threads,
+                   "the fluids' threads in the cost and limit parts: 1 (the thread's CPU time) or 2 (the wall "
+                   "clock; the search alone and the bare loop stay on one thread) (default 1)")
+        ->check(gpl::cli::wholeNumber(1, 2));
     app.add_flag("--quick", quick, "a tiny version of every part (seconds; the tests run it)");
     if (const int status = gpl::cli::parse(app, argc, argv); status >= 0) return status;
     if (const std::string error = gpl::cli::makeFolder("--out", out); !error.empty()) {
@@ -298,9 +311,10 @@ int main(int argc, char** argv) {
         return 2;
     }
     if (quick) {
-        const int runs = plan.runs;
+        const int runs = plan.runs, threads = plan.threads;
         plan = quickPlan();
         if (app.count("--runs") > 0) plan.runs = runs;
+        plan.threads = threads;
     }
     if (sizes.empty()) sizes = plan.sizes;
     const std::vector<std::string> parts = split(partList);

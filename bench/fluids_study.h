@@ -94,7 +94,12 @@ struct FluidCost {
     /// PBF's step over its iterations: what one iteration costs with the step's other stages shared out.
     double pbfIterationNs() const { return pbfStepNs() / iterations; }
 };
-FluidCost measureCost(int n, int iterations = 4, double pbfStep = 0.005, int warmup = 2, int steps = 5);
+/// threads: the two fluids' (Fluids::setThreads()). With 1, every figure is the thread's CPU time;
+/// with 2, the stages and the substep are timed by the wall clock (the caller's CPU time leaves out
+/// the second thread's half), while the search alone and the bare loop stay on one thread and its
+/// CPU time: the limit is the one-thread bare loop.
+FluidCost measureCost(int n, int iterations = 4, double pbfStep = 0.005, int warmup = 2, int steps = 5,
+                      int threads = 1);
 
 /// The bare loop of the limit: rho_i = m sum_j W_poly6(|x_i - x_j|, h) over particle i and its
 /// neighbours in `grid` (found at `x`), poly6 written out; returns the sum of the densities (so

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "gpl/soft_constraints.h"
 
@@ -34,16 +35,16 @@ Vec3 outOfPlane(const Vec3& q, double r, const Vec3& point, const Vec3& normal) 
 void Fluids::setParameters(const FluidParameters& f) {
     using fluidstep::positiveFinite;
     using fluidstep::require;
-    require(positiveFinite(f.restDensity), "rest density must be a positive finite number of kg/m^3, got " +
-                                               formatNumber(f.restDensity));
+    require(positiveFinite(f.restDensity),
+            "rest density must be a positive finite number of kg/m^3, got " + formatNumber(f.restDensity));
     require(positiveFinite(f.spacing), "spacing must be a positive finite number of m, got " + formatNumber(f.spacing));
     require(positiveFinite(f.smoothingLength),
             "smoothing length must be a positive finite number of m, got " + formatNumber(f.smoothingLength));
     require(f.smoothingLength >= f.spacing, "smoothing length " + formatNumber(f.smoothingLength) +
                                                 " m is below the spacing " + formatNumber(f.spacing) +
                                                 " m: a particle would see no neighbour");
-    require(positiveFinite(f.relaxation), "relaxation must be a positive finite number, got " +
-                                              formatNumber(f.relaxation));
+    require(positiveFinite(f.relaxation),
+            "relaxation must be a positive finite number, got " + formatNumber(f.relaxation));
     require(std::isfinite(f.tensile.k) && f.tensile.k >= 0.0,
             "tensile k must be a finite number >= 0, got " + formatNumber(f.tensile.k));
     require(f.tensile.dq > 0.0 && f.tensile.dq < 1.0,
@@ -91,8 +92,8 @@ std::size_t Fluids::addBlock(const Vec3& lower, const Vec3& upper, const Vec3& v
     int counts[3];
     for (int a = 0; a < 3; ++a) {
         counts[a] = static_cast<int>(std::floor((upper[a] - lower[a]) / s + 1e-9));
-        require(counts[a] >= 1, "block is thinner than one spacing (" + formatNumber(s) + " m) along axis " +
-                                    std::string(1, "xyz"[a]));
+        require(counts[a] >= 1,
+                "block is thinner than one spacing (" + formatNumber(s) + " m) along axis " + std::string(1, "xyz"[a]));
     }
     const std::size_t before = x.size();
     for (int k = 0; k < counts[2]; ++k) {
@@ -144,13 +145,55 @@ TensileCorrection Fluids::tensile() const {
     return t;
 }
 
-void Fluids::gather(std::size_t i, const std::vector<Vec3>& positions) {
-    const std::uint32_t* row = grid_.list().data() + grid_.start(i);
-    neighbours_.resize(grid_.count(i));
-    for (std::size_t k = 0; k < neighbours_.size(); ++k) {
-        const std::uint32_t j = row[k];
-        neighbours_[k] = {positions[j], v[j], density[j], lambda[j]};
+// ---- Threads -----------------------------------------------------------------------------------
+
+int Fluids::defaultThreads() { return std::thread::hardware_concurrency() >= 2 ? 2 : 1; }
+
+void Fluids::setThreads(int threads) {
+    if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
+    threads_ = threads < 2 ? 1 : 2;
+}
+
+template <class Pass>
+void Fluids::eachParticle(const Pass& pass) {
+    const std::size_t n = x.size();
+    if (threads_ < 2 || n < kThreadedParticles) {
+        pass(std::size_t{0}, n, neighbours_[0]);
+        return;
     }
+    // Each half's function holds one reference, which std::function keeps without allocating.
+    const auto half = [&](int which) {
+        const std::size_t middle = n / 2;
+        if (which == 0)
+            pass(std::size_t{0}, middle, neighbours_[0]);
+        else
+            pass(middle, n, neighbours_[1]);
+    };
+    second_.run(
+        true, [&half] { half(0); }, [&half] { half(1); });
+}
+
+void Fluids::gather(std::size_t i, const std::vector<Vec3>& positions, std::vector<FluidNeighbour>& into) const {
+    const std::uint32_t* row = grid_.list().data() + grid_.start(i);
+    into.resize(grid_.count(i));
+    for (std::size_t k = 0; k < into.size(); ++k) {
+        const std::uint32_t j = row[k];
+        into[k] = {positions[j], v[j], density[j], lambda[j]};
+    }
+}
+
+void Fluids::densities(const std::vector<Vec3>& positions) {
+    const double m = mass(), hs = parameters_.smoothingLength, rho0 = parameters_.restDensity;
+    const double stiffness = rho0 * parameters_.soundSpeed * parameters_.soundSpeed / 7.0;  // Tait's B (Pa)
+    nextDensity_.resize(x.size());
+    eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>& neighbours) {
+        for (std::size_t i = begin; i < end; ++i) {
+            gather(i, positions, neighbours);
+            nextDensity_[i] = fluidDensity(positions[i], neighbours, m, hs);
+            pressure[i] = std::max(stiffness * (std::pow(nextDensity_[i] / rho0, 7) - 1.0), 0.0);
+        }
+    });
+    density.swap(nextDensity_);
 }
 
 void Fluids::pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3* velocity) const {
@@ -188,32 +231,46 @@ void Fluids::predict(double h, const Vec3& gravity) {
     }
 }
 
-void Fluids::findNeighbours() { grid_.find(p, parameters_.smoothingLength); }
+void Fluids::findNeighbours() { grid_.find(p, parameters_.smoothingLength, searchThread()); }
 
 void Fluids::project(const std::vector<Body>& bodies) {
     const double m = mass(), h = parameters_.smoothingLength, rho0 = parameters_.restDensity;
     const double eps = epsilon();
     const TensileCorrection sCorr = tensile();
     delta_.resize(x.size());
+    nextDensity_.resize(x.size());
+    nextLambda_.resize(x.size());
     for (int iteration = 0; iteration < parameters_.iterations; ++iteration) {
         // Densities at the predicted positions, and from each the multiplier of its density
         // constraint (which reads the particle's own density and its neighbours' positions, so one
         // gathering of the neighbours serves both). One-sided: a particle short of neighbours (at a
         // free surface or a wall) counts as at rest, not as stretched, so that it is not pulled
-        // into the fluid.
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            gather(i, p);
-            density[i] = fluidDensity(p[i], neighbours_, m, h);
-            lambda[i] = densityConstraintLambda(p[i], neighbours_, std::max(density[i], rho0), rho0, m, h, eps);
-        }
-        // Moves, all from the same multipliers, then applied.
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            gather(i, p);
-            delta_[i] = densityCorrection(p[i], lambda[i], neighbours_, rho0, m, h, sCorr);
-        }
-        for (std::size_t i = 0; i < x.size(); ++i) p[i] += delta_[i];
-        // The rigid bodies push the particles out.
-        for (std::size_t i = 0; i < x.size(); ++i) pushOut(p[i], bodies, nullptr);
+        // into the fluid. The neighbours' densities and multipliers the kernels are shown are the
+        // last pass's: this pass writes its own beside them.
+        eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>& neighbours) {
+            for (std::size_t i = begin; i < end; ++i) {
+                gather(i, p, neighbours);
+                nextDensity_[i] = fluidDensity(p[i], neighbours, m, h);
+                nextLambda_[i] =
+                    densityConstraintLambda(p[i], neighbours, std::max(nextDensity_[i], rho0), rho0, m, h, eps);
+            }
+        });
+        density.swap(nextDensity_);
+        lambda.swap(nextLambda_);
+        // Moves, all from the same multipliers, then applied, and the rigid bodies push the
+        // particles out.
+        eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>& neighbours) {
+            for (std::size_t i = begin; i < end; ++i) {
+                gather(i, p, neighbours);
+                delta_[i] = densityCorrection(p[i], lambda[i], neighbours, rho0, m, h, sCorr);
+            }
+        });
+        eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>&) {
+            for (std::size_t i = begin; i < end; ++i) {
+                p[i] += delta_[i];
+                pushOut(p[i], bodies, nullptr);
+            }
+        });
     }
 }
 
@@ -221,10 +278,13 @@ void Fluids::updateVelocities(double h) {
     for (std::size_t i = 0; i < x.size(); ++i) v[i] = (p[i] - x[i]) / h;
     // XSPH: every velocity blended with its neighbours' (all from the velocities before the blend).
     blended_.resize(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        gather(i, p);
-        blended_[i] = xsphViscosity(p[i], v[i], neighbours_, mass(), parameters_.smoothingLength, parameters_.xsph);
-    }
+    const double m = mass(), hs = parameters_.smoothingLength, c = parameters_.xsph;
+    eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>& neighbours) {
+        for (std::size_t i = begin; i < end; ++i) {
+            gather(i, p, neighbours);
+            blended_[i] = xsphViscosity(p[i], v[i], neighbours, m, hs, c);
+        }
+    });
     for (std::size_t i = 0; i < x.size(); ++i) {
         v[i] = blended_[i];
         x[i] = p[i];
@@ -239,60 +299,53 @@ int Fluids::sphSubsteps(double h) const {
 }
 
 void Fluids::stepSph(double h, const Vec3& gravity, const std::vector<Body>& bodies, int substeps) {
-    const double m = mass(), hs = parameters_.smoothingLength, rho0 = parameters_.restDensity;
+    const double m = mass(), hs = parameters_.smoothingLength;
     const double c = parameters_.soundSpeed, alpha = parameters_.artificialViscosity;
-    const double stiffness = rho0 * c * c / 7.0;  // Tait's B (Pa)
     if (substeps < 1) substeps = sphSubsteps(h);
     const double dt = h / substeps;
     delta_.resize(x.size());
     for (int substep = 0; substep < substeps; ++substep) {
         // Neighbours, densities and Tait's pressures.
-        grid_.find(x, hs);
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            gather(i, x);
-            density[i] = fluidDensity(x[i], neighbours_, m, hs);
-            pressure[i] = std::max(stiffness * (std::pow(density[i] / rho0, 7) - 1.0), 0.0);
-        }
+        grid_.find(x, hs, searchThread());
+        densities(x);
         // Accelerations: gravity, the symmetric pressure force and Monaghan's viscosity.
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            Vec3 a = gravity;
-            const double pi = pressure[i] / (density[i] * density[i]);
-            const std::uint32_t first = grid_.start(i), last = first + grid_.count(i);
-            for (std::uint32_t k = first; k < last; ++k) {
-                const std::uint32_t j = grid_.list()[k];
-                const Vec3 r = x[i] - x[j];
-                const double pj = pressure[j] / (density[j] * density[j]);
-                const double approach = (v[i] - v[j]).dot(r);  // < 0: closing
-                double viscous = 0.0;
-                if (approach < 0.0) {
-                    const double mu = hs * approach / (r.squaredNorm() + 0.01 * hs * hs);
-                    viscous = -alpha * c * mu / (0.5 * (density[i] + density[j]));
+        eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>&) {
+            for (std::size_t i = begin; i < end; ++i) {
+                Vec3 a = gravity;
+                const double pi = pressure[i] / (density[i] * density[i]);
+                const std::uint32_t first = grid_.start(i), last = first + grid_.count(i);
+                for (std::uint32_t k = first; k < last; ++k) {
+                    const std::uint32_t j = grid_.list()[k];
+                    const Vec3 r = x[i] - x[j];
+                    const double pj = pressure[j] / (density[j] * density[j]);
+                    const double approach = (v[i] - v[j]).dot(r);  // < 0: closing
+                    double viscous = 0.0;
+                    if (approach < 0.0) {
+                        const double mu = hs * approach / (r.squaredNorm() + 0.01 * hs * hs);
+                        viscous = -alpha * c * mu / (0.5 * (density[i] + density[j]));
+                    }
+                    a -= m * (pi + pj + viscous) * spikyGradient(r, hs);
                 }
-                a -= m * (pi + pj + viscous) * spikyGradient(r, hs);
+                delta_[i] = a;
             }
-            delta_[i] = a;
-        }
+        });
         // Semi-implicit Euler, then the rigid bodies' push: no velocity into a body stays.
-        for (std::size_t i = 0; i < x.size(); ++i) {
-            v[i] += dt * delta_[i];
-            x[i] += dt * v[i];
-            pushOut(x[i], bodies, &v[i]);
-            p[i] = x[i];
-        }
+        eachParticle([&](std::size_t begin, std::size_t end, std::vector<FluidNeighbour>&) {
+            for (std::size_t i = begin; i < end; ++i) {
+                v[i] += dt * delta_[i];
+                x[i] += dt * v[i];
+                pushOut(x[i], bodies, &v[i]);
+                p[i] = x[i];
+            }
+        });
     }
 }
 
 // ---- Diagnostics -------------------------------------------------------------------------------
 
 void Fluids::measureDensities() {
-    const double m = mass(), hs = parameters_.smoothingLength, rho0 = parameters_.restDensity;
-    const double stiffness = rho0 * parameters_.soundSpeed * parameters_.soundSpeed / 7.0;
-    grid_.find(x, hs);
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        gather(i, x);
-        density[i] = fluidDensity(x[i], neighbours_, m, hs);
-        pressure[i] = std::max(stiffness * (std::pow(density[i] / rho0, 7) - 1.0), 0.0);
-    }
+    grid_.find(x, parameters_.smoothingLength, searchThread());
+    densities(x);
 }
 
 double Fluids::densityError() const {

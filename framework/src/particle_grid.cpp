@@ -6,6 +6,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "gpl/second_thread.h"
+
 namespace gpl {
 namespace {
 namespace neighbourgrid {
@@ -20,7 +22,7 @@ int cellCoordinate(double offset, double side, int cells) {
 }  // namespace neighbourgrid
 }  // namespace
 
-void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
+void ParticleGrid::find(const std::vector<Vec3>& points, double h, SecondThread* second) {
     using namespace neighbourgrid;
     assert(h > 0.0);
     const std::size_t n = points.size();
@@ -38,7 +40,8 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
     side_ = h;
     const double most = kCellsPerParticle * static_cast<double>(n) + 64.0;
     while ((std::floor(extent.x() / side_) + 1) * (std::floor(extent.y() / side_) + 1) *
-               (std::floor(extent.z() / side_) + 1) > most)
+               (std::floor(extent.z() / side_) + 1) >
+           most)
         side_ *= 2.0;
     origin_ = lower;
     for (int a = 0; a < 3; ++a) cells_[a] = static_cast<int>(std::floor(extent[a] / side_)) + 1;
@@ -69,26 +72,67 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h) {
     for (std::size_t c = cellCount; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
     cellStart_[0] = 0;
 
-    // Each point's neighbours from its own cell and the 26 around it.
+    // Each point's neighbours from its own cell and the 26 around it: on two threads, the second
+    // half's into a list of its own, joined after the first half's.
+    const std::size_t middle = second ? n / 2 : n;
+    // Each half's function holds one reference, which std::function keeps without allocating.
+    const auto half = [&](int which) {
+        if (which == 0)
+            search(points, h, 0, middle, list_);
+        else
+            search(points, h, middle, n, secondList_);
+    };
+    if (second) {
+        second->run(
+            true, [&half] { half(0); }, [&half] { half(1); });
+        const auto before = static_cast<std::uint32_t>(list_.size());
+        for (std::size_t i = middle; i < n; ++i) start_[i + 1] += before;
+        list_.insert(list_.end(), secondList_.begin(), secondList_.end());
+    } else {
+        half(0);
+    }
+}
+
+void ParticleGrid::search(const std::vector<Vec3>& points, double h, std::size_t begin, std::size_t end,
+                          std::vector<std::uint32_t>& out) {
     const double h2 = h * h;
-    for (std::size_t i = 0; i < n; ++i) {
+    std::size_t used = 0;
+    out.resize(out.capacity());
+    for (std::size_t i = begin; i < end; ++i) {
         const Vec3 q = points[i];
         const std::uint32_t cell = cellOf_[i];
         const int cx = static_cast<int>(cell % cells_[0]);
         const int cy = static_cast<int>(cell / cells_[0] % cells_[1]);
         const int cz = static_cast<int>(cell / cells_[0] / cells_[1]);
+        const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, cells_[0] - 1);
+        // The runs of the 9 rows (z, y) around the cell: cells x0 to x1 of each.
+        std::uint32_t runBegin[9], runEnd[9];
+        int runs = 0;
+        std::size_t candidates = 0;
         for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, cells_[2] - 1); ++z) {
             for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, cells_[1] - 1); ++y) {
-                for (int x = std::max(cx - 1, 0); x <= std::min(cx + 1, cells_[0] - 1); ++x) {
-                    const std::size_t c = (static_cast<std::size_t>(z) * cells_[1] + y) * cells_[0] + x;
-                    for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
-                        if ((sortedPoints_[k] - q).squaredNorm() < h2 && sorted_[k] != i) list_.push_back(sorted_[k]);
-                    }
-                }
+                const std::size_t row = (static_cast<std::size_t>(z) * cells_[1] + y) * cells_[0];
+                runBegin[runs] = cellStart_[row + x0];
+                runEnd[runs] = cellStart_[row + x1 + 1];
+                candidates += runEnd[runs] - runBegin[runs];
+                ++runs;
             }
         }
-        start_[i + 1] = static_cast<std::uint32_t>(list_.size());
+        // Room for every candidate; each is written and kept when it is a neighbour.
+        if (out.size() < used + candidates) out.resize(std::max(used + candidates, 2 * out.size()));
+        std::uint32_t* row = out.data() + used;
+        std::size_t found = 0;
+        for (int r = 0; r < runs; ++r) {
+            for (std::uint32_t k = runBegin[r]; k < runEnd[r]; ++k) {
+                row[found] = sorted_[k];
+                found += static_cast<std::size_t>((sortedPoints_[k] - q).squaredNorm() < h2) &
+                         static_cast<std::size_t>(sorted_[k] != i);
+            }
+        }
+        used += found;
+        start_[i + 1] = static_cast<std::uint32_t>(used);
     }
+    out.resize(used);
 }
 
 }  // namespace gpl

@@ -18,6 +18,7 @@
 #include "gpl/fluid_experiments.h"
 #include "gpl/particle_grid.h"
 #include "gpl/scenes.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 namespace {
@@ -95,6 +96,27 @@ TEST(ParticleGrid, SameNeighboursWithParticlesFlungFarAway) {
     const auto& cells = grid.cells();
     EXPECT_LE(double(cells[0]) * cells[1] * cells[2], 4.0 * points.size() + 64.0);
     expectSameNeighbours(points, 0.05, "cloud with two far particles");
+}
+
+TEST(ParticleGrid, TwoThreadsFindTheSameListsAsOne) {
+    // The second half of the points searched on a second thread: the same rows, in the same order.
+    std::mt19937 random(11);
+    std::uniform_real_distribution<double> coordinate(0.0, 0.4);
+    std::vector<Vec3> points(3001);
+    for (Vec3& q : points) q = Vec3(coordinate(random), coordinate(random), coordinate(random));
+    ParticleGrid one, two;
+    SecondThread second;
+    for (int repeat = 0; repeat < 2; ++repeat) {  // the second time with grown buffers
+        one.find(points, 0.04);
+        two.find(points, 0.04, &second);
+        ASSERT_EQ(two.total(), one.total());
+        for (std::size_t i = 0; i < points.size(); ++i) {
+            ASSERT_EQ(two.start(i), one.start(i)) << "particle " << i;
+            ASSERT_EQ(two.count(i), one.count(i)) << "particle " << i;
+        }
+        EXPECT_TRUE(std::equal(one.list().begin(), one.list().end(), two.list().begin()));
+    }
+    expectSameNeighbours(points, 0.04, "cloud of 3001");
 }
 
 // ---- Densities -------------------------------------------------------------------------------------
@@ -350,6 +372,37 @@ TEST(Fluids, AStepAllocatesNothingOnceGrown) {
         for (int k = 0; k < 10; ++k) e.step();
         EXPECT_EQ(allocations - before, 0) << name;
     }
+}
+
+TEST(Fluids, OneAndTwoThreadsStepTheSame) {
+    // Each particle's sums are the same code in the same order on one thread and on two: the same
+    // positions, velocities, densities and multipliers to the bit, for both methods.
+    for (const char* name : {"dam-break", "dam-break-sph"}) {
+        PhysicsEngine one, two;
+        load(one, scenes().find(name));
+        load(two, scenes().find(name));
+        ASSERT_GE(two.fluids().size(), Fluids::kThreadedParticles) << name;
+        one.fluids().setThreads(1);
+        two.fluids().setThreads(2);
+        for (int k = 0; k < 20; ++k) {
+            one.step();
+            two.step();
+        }
+        const Fluids &a = one.fluids(), &b = two.fluids();
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            ASSERT_EQ(a.x[i], b.x[i]) << name << ": particle " << i;
+            ASSERT_EQ(a.v[i], b.v[i]) << name << ": particle " << i;
+            ASSERT_EQ(a.density[i], b.density[i]) << name << ": particle " << i;
+            ASSERT_EQ(a.lambda[i], b.lambda[i]) << name << ": particle " << i;
+        }
+    }
+}
+
+TEST(Fluids, ThreadsBelowOneAreRefused) {
+    Fluids f;
+    EXPECT_THROW(f.setThreads(0), std::invalid_argument);
+    f.setThreads(5);
+    EXPECT_EQ(f.threads(), 2);
 }
 
 // ---- The dam break against Martin and Moyce (1952) -----------------------------------------------

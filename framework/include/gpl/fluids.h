@@ -16,6 +16,13 @@
 // densities (fluidDensity()), Tait's pressure, the symmetric pressure force and Monaghan's
 // artificial viscosity along spikyGradient(), semi-implicit Euler, the rigid bodies' push.
 // Rigid bodies push particles (one way): a particle of radius spacing / 2 moves out of the body.
+//
+// Every pass over the particles computes each particle's value from fields no particle of the
+// pass writes (a density pass writes the next densities and multipliers beside those its
+// neighbours are read from), so a pass may run in two halves at once: with two threads
+// (setThreads(), the default where the machine has two cores) and a fluid of kThreadedParticles
+// or more, the second half of the particles runs on a SecondThread. Each particle's sums are the
+// same code in the same order either way: the results are the same to the bit.
 #pragma once
 
 #include <cstddef>
@@ -26,6 +33,7 @@
 #include "gpl/fluid_kernels.h"
 #include "gpl/math.h"
 #include "gpl/particle_grid.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 
@@ -35,9 +43,9 @@ namespace gpl {
 constexpr double kSmoothingRatio = 2.0;
 
 struct FluidParameters {
-    double restDensity = 1000.0;     ///< rho0 (kg/m^3, > 0)
-    double spacing = 0.02;           ///< rest spacing of the particles (m, > 0); each has m = rho0 spacing^3
-    double smoothingLength = 0.04;   ///< h (m, >= spacing): how far a particle sees
+    double restDensity = 1000.0;    ///< rho0 (kg/m^3, > 0)
+    double spacing = 0.02;          ///< rest spacing of the particles (m, > 0); each has m = rho0 spacing^3
+    double smoothingLength = 0.04;  ///< h (m, >= spacing): how far a particle sees
     /// PBF's relaxation eps in units of 1 / spacing^2 (dimensionless, > 0). A particle inside the rest
     /// lattice has sum_k |grad_k C|^2 of about 0.37 / spacing^2 (h = 2 spacings): eps small beside it
     /// barely softens the constraint there, and keeps a surface particle with few neighbours from
@@ -48,9 +56,9 @@ struct FluidParameters {
     /// a particle inside the lattice compressed by C has lambda of about -C spacing^2 / 0.37, so k
     /// in spacing^2 keeps s_corr's weight beside the multipliers the same at every spacing.
     TensileCorrection tensile{0.1, 0.2, 4};
-    double xsph = 0.01;              ///< XSPH's c after each PBF step (0 <= c <= 1)
-    int iterations = 4;              ///< PBF's sweeps of the density constraints per step (>= 1)
-    double soundSpeed = 20.0;        ///< WCSPH's speed of sound c (m/s, > 0): about 10 times the fastest flow
+    double xsph = 0.01;                 ///< XSPH's c after each PBF step (0 <= c <= 1)
+    int iterations = 4;                 ///< PBF's sweeps of the density constraints per step (>= 1)
+    double soundSpeed = 20.0;           ///< WCSPH's speed of sound c (m/s, > 0): about 10 times the fastest flow
     double artificialViscosity = 0.05;  ///< WCSPH: Monaghan's alpha (dimensionless, >= 0)
 };
 
@@ -90,10 +98,10 @@ public:
     bool empty() const { return x.empty(); }
     std::size_t size() const { return x.size(); }
 
-    double mass() const;             ///< m = rho0 spacing^3 (kg), every particle's
+    double mass() const;                                         ///< m = rho0 spacing^3 (kg), every particle's
     double radius() const { return 0.5 * parameters_.spacing; }  ///< m, for the rigid bodies' push
-    double epsilon() const;          ///< PBF's eps (1/m^2)
-    TensileCorrection tensile() const;  ///< s_corr as the kernel takes it: k in m^2, dq in m
+    double epsilon() const;                                      ///< PBF's eps (1/m^2)
+    TensileCorrection tensile() const;                           ///< s_corr as the kernel takes it: k in m^2, dq in m
 
     // ---- PBF's step: the engine's stages FluidPredict, FluidNeighbours, FluidProject,
     // FluidVelocities --------------------------------------------------------------------------
@@ -130,7 +138,7 @@ public:
     /// constraints fight (a particle at a free surface or a wall, short of neighbours, reads as
     /// less dense without being stretched).
     double densityError() const;
-    double largestDensityError() const;   ///< the largest rho_i / rho0 - 1 (0 when none is above)
+    double largestDensityError() const;                 ///< the largest rho_i / rho0 - 1 (0 when none is above)
     double kineticEnergy() const;                       ///< J
     double potentialEnergy(const Vec3& gravity) const;  ///< J, gravitational, zero at the origin
     Vec3 linearMomentum() const;                        ///< kg m/s
@@ -138,26 +146,50 @@ public:
     std::size_t firstNonFinite() const;
     const ParticleGrid& grid() const { return grid_; }
 
+    // ---- Threads --------------------------------------------------------------------------------
+    /// 1: every pass on the calling thread; 2: the passes of a fluid of kThreadedParticles or more
+    /// in two halves on two threads (the same results). Throws std::invalid_argument below 1.
+    void setThreads(int threads);
+    int threads() const { return threads_; }
+    /// The fewest particles whose passes two threads share: below, a hand-over costs more than
+    /// half a pass saves.
+    static constexpr std::size_t kThreadedParticles = 2000;
+
     // ---- The particles (structure of arrays), read by the viewer and the tests ----------------
-    std::vector<Vec3> x;             ///< positions at the end of the last step (m)
-    std::vector<Vec3> p;             ///< predicted positions, projected during a PBF step (m)
-    std::vector<Vec3> v;             ///< velocities (m/s)
-    std::vector<double> density;     ///< rho_i of the last density computation (kg/m^3)
-    std::vector<double> lambda;      ///< PBF's multipliers of the last iteration
-    std::vector<double> pressure;    ///< WCSPH's pressures of the last substep (Pa)
+    std::vector<Vec3> x;           ///< positions at the end of the last step (m)
+    std::vector<Vec3> p;           ///< predicted positions, projected during a PBF step (m)
+    std::vector<Vec3> v;           ///< velocities (m/s)
+    std::vector<double> density;   ///< rho_i of the last density computation (kg/m^3)
+    std::vector<double> lambda;    ///< PBF's multipliers of the last iteration
+    std::vector<double> pressure;  ///< WCSPH's pressures of the last substep (Pa)
 
 private:
     FluidParameters parameters_;
     std::optional<FluidBox> container_;
     ParticleGrid grid_;
+    int threads_ = defaultThreads();
+    SecondThread second_;  ///< runs the second half of each pass (threads_ 2)
     // Buffers kept from step to step, so that a step allocates nothing once they have grown.
-    std::vector<FluidNeighbour> neighbours_;  ///< one particle's neighbours as the kernels see them
-    std::vector<Vec3> delta_;                 ///< PBF's moves, or WCSPH's accelerations
-    std::vector<Vec3> blended_;               ///< XSPH's velocities
+    /// One particle's neighbours as the kernels see them: one buffer for each half of a pass.
+    std::vector<FluidNeighbour> neighbours_[2];
+    std::vector<Vec3> delta_;          ///< PBF's moves, or WCSPH's accelerations
+    std::vector<Vec3> blended_;        ///< XSPH's velocities
+    std::vector<double> nextDensity_;  ///< a density pass's densities, then swapped into density
+    std::vector<double> nextLambda_;   ///< a density pass's multipliers, then swapped into lambda
 
-    /// neighbours_ := particle i's neighbours at `positions`, with their velocities, densities and
+    static int defaultThreads();
+    /// pass(begin, end, neighbours) for the particles [begin, end) with a neighbour buffer of their
+    /// own: over all of them here, or in two halves on two threads (see the top of this file).
+    template <class Pass>
+    void eachParticle(const Pass& pass);
+    /// `into` := particle i's neighbours at `positions`, with their velocities, densities and
     /// multipliers.
-    void gather(std::size_t i, const std::vector<Vec3>& positions);
+    void gather(std::size_t i, const std::vector<Vec3>& positions, std::vector<FluidNeighbour>& into) const;
+    /// The thread that searches for the second half of the particles' neighbours, or nullptr.
+    SecondThread* searchThread() { return threads_ > 1 && x.size() >= kThreadedParticles ? &second_ : nullptr; }
+    /// The densities at `positions` (fluidDensity()) into density, and Tait's pressures from them
+    /// into pressure.
+    void densities(const std::vector<Vec3>& positions);
     /// q pushed out of every rigid plane, box and sphere in turn (a particle of radius()); with a
     /// velocity, each body that pushes also takes the velocity's part into it.
     void pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3* velocity) const;
