@@ -229,7 +229,10 @@ if [[ ${{#missing[@]}} -gt 0 ]]; then
   apt-get update -q
   apt-get install -y -q --no-install-recommends "${{missing[@]}}"
 fi
-python3 tools/grade.py prebuild --build-dir build/release
+# Debian's python3, the one installed above, before any other on PATH (a pyenv shim costs seconds).
+PYTHON=python3
+[[ -x /usr/bin/python3 ]] && PYTHON=/usr/bin/python3
+"$PYTHON" tools/grade.py prebuild --build-dir build/release
 """
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash
@@ -242,13 +245,15 @@ AUTOGRADER="${{GPL_AUTOGRADER_ROOT:-/autograder}}"
 SOURCE="$AUTOGRADER/source"
 RESULTS="$AUTOGRADER/results/results.json"
 mkdir -p "$AUTOGRADER/results"
-python3 "$SOURCE/tools/grade.py" grade --build-dir "$SOURCE/build/release" --submission "$AUTOGRADER/submission" \\
+PYTHON=python3
+[[ -x /usr/bin/python3 ]] && PYTHON=/usr/bin/python3
+"$PYTHON" "$SOURCE/tools/grade.py" grade --build-dir "$SOURCE/build/release" --submission "$AUTOGRADER/submission" \\
   --json "$RESULTS" --hidden-visibility {visibility} 2>"$AUTOGRADER/results/errors.txt"
 status=$?
 cat "$AUTOGRADER/results/errors.txt" >&2
 if [[ $status -eq 2 ]]; then
   # The grading could not run (no hook files in the submission, ...): zero, and the reason.
-  python3 "$SOURCE/tools/grade.py" failure --json "$RESULTS" --message "$(head -c 2000 "$AUTOGRADER/results/errors.txt")"
+  "$PYTHON" "$SOURCE/tools/grade.py" failure --json "$RESULTS" --message "$(head -c 2000 "$AUTOGRADER/results/errors.txt")"
 fi
 exit 0
 """

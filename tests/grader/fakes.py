@@ -4,6 +4,7 @@ pipes (fd 3 and 4) as gpl-checker and gpl-hooks-VARIANT, so that every way an en
 tried in a second. The C programs are compiled by the tests (cc), into a temporary folder."""
 import pathlib
 import subprocess
+import sys
 
 # ---- The launcher's probe: `probe WHAT` makes one system call; the filter's tag is printed ---------
 PROBE_C = r'''#define _GNU_SOURCE
@@ -113,6 +114,7 @@ RUNNER_C = r'''/* A fake engine: reads a word per request from fd 3, acts, answe
 #include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/syscall.h>
+#include <time.h>
 #include <unistd.h>
 static int traceFd = -1;
 static volatile int stacky, fakestack;
@@ -146,6 +148,7 @@ int main(int argc, char** argv) {
         if (!strcmp(word, "crash")) *(volatile int*)0 = 1;
         else if (!strcmp(word, "loop")) for (;;) {}
         else if (!strcmp(word, "sleep")) sleep(100);
+        else if (!strcmp(word, "work")) { while (clock() < CLOCKS_PER_SEC) {} }  /* a second of CPU time */
         else if (!strcmp(word, "fork")) fork();
         else if (!strcmp(word, "socket")) socket(AF_INET, SOCK_STREAM, 0);
         else if (!strcmp(word, "memfd")) memfd_create("x", 0);
@@ -217,7 +220,8 @@ def build(folder):
                        capture_output=True)
         made[name] = folder / name
     checker = folder / "checker"
-    checker.write_text(CHECKER_PY)
+    # This Python, not whichever comes first on PATH (a pyenv shim there takes seconds to start).
+    checker.write_text(CHECKER_PY.replace("#!/usr/bin/env python3", f"#!{sys.executable}", 1))
     checker.chmod(0o755)
     made["checker"] = checker
     return made

@@ -1,8 +1,10 @@
 """Where and within what a graded test's engine (the submission's code) runs.
 
 Limits, each with a default and a per-test override declared with the test (graded.h):
-  time     wall clock of the checker and the engine together, watched by the grader (--timeout or
-           grading::timeLimit); CPU time is a kernel limit a second above it (SIGXCPU)
+  time     of the checker and the engine together, watched by the grader (--timeout or
+           grading::timeLimit): the wall clock from the engine's start, less the time they waited
+           for a core that other programs held (running.LOAD_ALLOWANCE); CPU time is a kernel limit
+           a second above it (SIGXCPU)
   memory   the test's memory however it is allocated, a kernel limit where a cgroup can be made
            (cgroups.py), else its resident memory watched by the grader (grading::memoryLimit)
   threads  threads and processes at once, a kernel limit (cgroup pids.max) or watched
@@ -39,13 +41,13 @@ SANITIZER_OPTIONS = ("ASAN_OPTIONS", "LSAN_OPTIONS", "UBSAN_OPTIONS")
 
 @dataclasses.dataclass(frozen=True)
 class Limits:
-    seconds: float            # wall clock, and as many seconds of CPU time
+    seconds: float            # time the test could run (running.LOAD_ALLOWANCE), and as many of CPU time
     memory_mib: float
     threads: int
     file_mib: float
 
     def cpu_seconds(self):
-        """The kernel's whole seconds of CPU time: a second above the wall clock's limit."""
+        """The kernel's whole seconds of CPU time: a second above the time limit."""
         return int(self.seconds + 0.999) + 1
 
     def describe(self):
