@@ -14,7 +14,8 @@ two pipes; the checker's report decides. Points, hints, Gradescope results.json 
   grade.py report --checker CHECKER --hooks ENGINE [--worksheet N] [--json FILE] [--junit FILE]
       grades an engine that is already built.
   grade.py prebuild --build-dir DIR
-      builds the checker, the launcher and what a submission's engine links (Gradescope's setup.sh).
+      builds the checker, the launcher, what a submission's engine links and the stubs' objects
+      (Gradescope's setup.sh).
   grade.py failure --json FILE --message TEXT
       writes a results.json with zero points that says why the grading could not run.
   grade.py selfcheck --checker CHECKER --hooks ENGINE (--expect full | --expect zero | --mutant NAME)
@@ -230,7 +231,7 @@ def cmd_batch(args):
 
 def cmd_prebuild(args):
     """Builds what grading a submission needs besides the submission: the checker, the launcher, the
-    engine's server and libraries and the hook files' precompiled header."""
+    engine's server and libraries, the hook files' precompiled header and the stubs' objects."""
     build_dir = pathlib.Path(args.build_dir).resolve()
     if not (build_dir / "CMakeCache.txt").is_file():
         # What grading needs only: the engine, the checker, the launcher (no viewer, studies or
@@ -242,6 +243,11 @@ def cmd_prebuild(args):
         if proc.returncode != 0:
             raise GradeError("could not configure the build: " + first_errors(proc.stdout, 3))
     build_trusted(build_dir)
+    # The stubs' engine, and so their hook objects: a submission's files left as handed out compile
+    # nothing (the bundle's assignments/ are the stubs, never a student's code).
+    ok, log = cmake_build(build_dir, ["gpl-hooks-assignments"])
+    if not ok:
+        raise GradeError("the stubs do not build: " + first_errors(log, 1))
     TrustedBuild(build_dir)  # the flags and the link command are readable
     (submission_build_dir(build_dir) / "submissions").mkdir(parents=True, exist_ok=True)
     print(f"built the checker, the launcher and the engine's parts in {build_dir}")

@@ -408,6 +408,9 @@ class GradescopeAutograder(unittest.TestCase):
 
     def test_setup_builds(self):
         self.assertEqual(self.setup.returncode, 0, self.setup.stdout[-3000:] + self.setup.stderr[-3000:])
+        # The stubs' engine too: their objects seed every grading, so a file left as handed out
+        # compiles nothing.
+        self.assertTrue((self.fake / "source" / "build" / "release" / "tests" / "gpl-hooks-assignments").is_file())
 
     def full_marks(self):
         """The results of a submission that earns full marks: here the solutions."""
