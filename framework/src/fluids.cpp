@@ -196,9 +196,24 @@ void Fluids::densities(const std::vector<Vec3>& positions) {
     density.swap(nextDensity_);
 }
 
+void Fluids::boundBodies(const std::vector<Body>& bodies) {
+    const double r = radius();
+    reach_.resize(bodies.size());
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+        const Body& body = bodies[b];
+        Vec3 half = Vec3::Constant(body.radius);
+        if (body.shape == Shape::Box) half = body.orientation.toRotationMatrix().cwiseAbs() * body.halfExtents;
+        const double margin = 1e-9 * (1.0 + body.position.cwiseAbs().maxCoeff() + half.maxCoeff() + r);
+        reach_[b] = {body.position - half - Vec3::Constant(r + margin),
+                     body.position + half + Vec3::Constant(r + margin)};
+    }
+}
+
 void Fluids::pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3* velocity) const {
     const double r = radius();
-    for (const Body& body : bodies) {
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+        const Body& body = bodies[b];
+        if (body.shape != Shape::Plane && !reach_[b].contains(q)) continue;  // too far to push
         Vec3 moved = q;
         switch (body.shape) {
             case Shape::Plane:
@@ -240,6 +255,7 @@ void Fluids::project(const std::vector<Body>& bodies) {
     delta_.resize(x.size());
     nextDensity_.resize(x.size());
     nextLambda_.resize(x.size());
+    boundBodies(bodies);
     for (int iteration = 0; iteration < parameters_.iterations; ++iteration) {
         // Densities at the predicted positions, and from each the multiplier of its density
         // constraint (which reads the particle's own density and its neighbours' positions, so one
@@ -304,6 +320,7 @@ void Fluids::stepSph(double h, const Vec3& gravity, const std::vector<Body>& bod
     if (substeps < 1) substeps = sphSubsteps(h);
     const double dt = h / substeps;
     delta_.resize(x.size());
+    boundBodies(bodies);
     for (int substep = 0; substep < substeps; ++substep) {
         // Neighbours, densities and Tait's pressures.
         grid_.find(x, hs, searchThread());

@@ -176,6 +176,9 @@ private:
     std::vector<Vec3> blended_;        ///< XSPH's velocities
     std::vector<double> nextDensity_;  ///< a density pass's densities, then swapped into density
     std::vector<double> nextLambda_;   ///< a density pass's multipliers, then swapped into lambda
+    /// Per rigid body of this step's push: its world bounds grown by radius() and a margin for
+    /// rounding. A sphere or box cannot push a particle outside them, so its kernel is not asked.
+    std::vector<FluidBox> reach_;
 
     static int defaultThreads();
     /// pass(begin, end, neighbours) for the particles [begin, end) with a neighbour buffer of their
@@ -190,8 +193,10 @@ private:
     /// The densities at `positions` (fluidDensity()) into density, and Tait's pressures from them
     /// into pressure.
     void densities(const std::vector<Vec3>& positions);
+    /// reach_ for `bodies`.
+    void boundBodies(const std::vector<Body>& bodies);
     /// q pushed out of every rigid plane, box and sphere in turn (a particle of radius()); with a
-    /// velocity, each body that pushes also takes the velocity's part into it.
+    /// velocity, each body that pushes also takes the velocity's part into it. reach_: bodies'.
     void pushOut(Vec3& q, const std::vector<Body>& bodies, Vec3* velocity) const;
     void requireInside(const Vec3& q, const char* what) const;
 };
