@@ -96,21 +96,37 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h, SecondThread*
 void ParticleGrid::search(const std::vector<Vec3>& points, double h, std::size_t begin, std::size_t end,
                           std::vector<std::uint32_t>& out) {
     const double h2 = h * h;
+    // A cell is left out when the nearest of its points lies h or farther from the particle; the
+    // margin keeps a cell whose points were filed across its face by rounding.
+    const double margin =
+        1e-9 * (side_ + origin_.cwiseAbs().maxCoeff() + side_ * cells_[0] + side_ * cells_[1] + side_ * cells_[2]);
+    const auto squared = [](double gap) { return gap > 0.0 ? gap * gap : 0.0; };
     std::size_t used = 0;
     out.resize(out.capacity());
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 q = points[i];
         const std::uint32_t cell = cellOf_[i];
-        const int cx = static_cast<int>(cell % cells_[0]);
-        const int cy = static_cast<int>(cell / cells_[0] % cells_[1]);
-        const int cz = static_cast<int>(cell / cells_[0] / cells_[1]);
-        const int x0 = std::max(cx - 1, 0), x1 = std::min(cx + 1, cells_[0] - 1);
-        // The runs of the 9 rows (z, y) around the cell: cells x0 to x1 of each.
+        const int c[3] = {static_cast<int>(cell % cells_[0]), static_cast<int>(cell / cells_[0] % cells_[1]),
+                          static_cast<int>(cell / cells_[0] / cells_[1])};
+        // Per axis, the squared distance from q to the cell before its own and to the cell after it.
+        double before[3], after[3];
+        for (int a = 0; a < 3; ++a) {
+            const double low = origin_[a] + side_ * c[a];
+            before[a] = squared(q[a] - low - margin);
+            after[a] = squared(low + side_ - q[a] - margin);
+        }
+        const auto gap = [&](int a, int k) { return k < c[a] ? before[a] : k > c[a] ? after[a] : 0.0; };
+        // The runs of the rows (z, y) around the cell that come nearer than h: of each, the cells
+        // from x0 to x1 that do (those of a row lie one after another in sorted_).
         std::uint32_t runBegin[9], runEnd[9];
         int runs = 0;
         std::size_t candidates = 0;
-        for (int z = std::max(cz - 1, 0); z <= std::min(cz + 1, cells_[2] - 1); ++z) {
-            for (int y = std::max(cy - 1, 0); y <= std::min(cy + 1, cells_[1] - 1); ++y) {
+        for (int z = std::max(c[2] - 1, 0); z <= std::min(c[2] + 1, cells_[2] - 1); ++z) {
+            for (int y = std::max(c[1] - 1, 0); y <= std::min(c[1] + 1, cells_[1] - 1); ++y) {
+                const double across = gap(2, z) + gap(1, y);
+                if (across >= h2) continue;
+                const int x0 = c[0] > 0 && across + before[0] < h2 ? c[0] - 1 : c[0];
+                const int x1 = c[0] < cells_[0] - 1 && across + after[0] < h2 ? c[0] + 1 : c[0];
                 const std::size_t row = (static_cast<std::size_t>(z) * cells_[1] + y) * cells_[0];
                 runBegin[runs] = cellStart_[row + x0];
                 runEnd[runs] = cellStart_[row + x1 + 1];
