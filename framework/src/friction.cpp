@@ -157,7 +157,10 @@ void PhysicsEngine::solveContacts() {
 
 void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contacts, double h, int sweeps,
                          int positionSweeps, SecondThread* second, ContactSolver solver) {
-    if (second != nullptr && sums_.size() >= ContactSweeps::kSplitFrom) second->wake();  // a large stage, as last step
+    // A large stage (as last step's) runs in halves on two threads or on one, whichever the second
+    // thread finds cheaper now: the stage is timed from here to its end (second_thread.h).
+    const bool large = solver == ContactSolver::SequentialImpulses && sums_.size() >= ContactSweeps::kSplitFrom;
+    const SecondThread::Stage timed(large ? second : nullptr, sums_.size());
     keepPoints(bodies, contacts);
     // 1. Each body's velocities now and its world inverse inertia, once.
     before_.resize(bodies.size());
@@ -202,7 +205,7 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     } else {
         const ContactSweeps::Start begin = [this, &contacts](std::size_t c, const Body& a, const Body& b,
                                                              PointImpulse* sums) { start(contacts, c, a, b, sums); };
-        sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, second, &begin);
+        sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, timed.second(), &begin);
     }
 
     // Each point's overlap at the end of the step: its overlap now, less what the change of its

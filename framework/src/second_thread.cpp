@@ -1,6 +1,7 @@
 #include "gpl/second_thread.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -47,6 +48,35 @@ constexpr std::chrono::microseconds kTolerance{200};
 constexpr std::uint64_t kFirstAlone = 32;
 constexpr std::uint64_t kLongestAlone = 4096;
 
+// The judge of timed stages (SecondThread::Stage). A trial runs the stage kTrial.size() times, on
+// one thread (false) and on two (true) in an order that a steady growth or shrinking of the stage
+// from run to run favours neither; each side's time per unit of work is the median of its runs,
+// which a run that another program delayed does not move far. Two threads are kept while they take
+// at most kKeep of one thread's time, and taken back only when they take at most kTake: where the
+// two are about even (a loaded machine, whose times scatter), one thread it is. The choice then
+// holds for a stay of runs: kFirstStay after a trial that changed it, twice the last stay after one
+// that confirmed it, up to kLongestStay; kSlowRuns runs in a row slower than kSlower times what the
+// trial found bring the next trial forward.
+constexpr std::array<bool, 16> kTrial{false, true, true, false, true, false, false, true,
+                                      false, true, true, false, true, false, false, true};
+constexpr double kKeep = 0.98;
+constexpr double kTake = 0.95;
+constexpr std::uint64_t kFirstStay = 32;
+constexpr std::uint64_t kLongestStay = 1024;
+constexpr double kSlower = 1.5;
+constexpr int kSlowRuns = 4;
+
+// The median of half a trial's runs.
+double median(std::array<double, kTrial.size() / 2> v) {
+    std::sort(v.begin(), v.end());
+    return 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+std::int64_t nowNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
 // The time this thread has run on a core.
 std::chrono::nanoseconds onCore() {
     timespec t{};
@@ -90,7 +120,8 @@ struct SecondThread::Shared {
     /// once its own half is done and the second thread has not begun (it may have no core now).
     std::atomic<std::uint64_t> claimed{0};
     std::atomic<std::uint64_t> done{0};     ///< the last hand-over that has been run to its end
-    std::chrono::nanoseconds theirsOnCore{0};  ///< the second thread's last work's time on its core
+    bool timeWork = false;  ///< the work posted is to be timed on the second thread's core
+    std::chrono::nanoseconds theirsOnCore{0};  ///< the second thread's last timed work's time on its core
     std::atomic<bool> stop{false};
     std::exception_ptr error;  ///< what the last work threw
 
@@ -100,8 +131,43 @@ struct SecondThread::Shared {
     std::uint64_t nextAlone = kFirstAlone;
     Clock::duration gained{0};       ///< since the last time alone, at most kCredit
 
+    // The judge of timed stages (only the caller reads and writes it).
+    bool judged = false;       ///< a stage has been timed: the judge decides, not the account
+    bool inStage = false;      ///< a timed stage runs now: its hand-overs book nothing
+    bool two = true;           ///< the choice
+    int trialAt = 0;           ///< the next run's place in kTrial, or -1 between trials
+    std::array<double, kTrial.size() / 2> trialOne{}, trialTwo{};  ///< a trial's times per unit of work (ns)
+    int ones = 0, twos = 0;
+    double found = 0.0;        ///< the choice's time per unit of work in the last trial (ns)
+    int slowRuns = 0;
+    std::uint64_t stayLeft = 0;
+    std::uint64_t lastStay = 0;
+
+    /// Whether the next timed run is on two threads.
+    bool nextOnTwo() const { return trialAt >= 0 ? kTrial[static_cast<std::size_t>(trialAt)] : two; }
+    /// Takes a timed run's time per unit of work (ns).
+    void judge(bool onTwo, double perWork) {
+        if (trialAt < 0) {
+            slowRuns = perWork > kSlower * found ? slowRuns + 1 : 0;
+            if (stayLeft > 0) --stayLeft;
+            if (slowRuns >= kSlowRuns) stayLeft = 0;
+            if (stayLeft == 0) trialAt = 0, ones = twos = 0, slowRuns = 0;
+            return;
+        }
+        (onTwo ? trialTwo[static_cast<std::size_t>(twos++)] : trialOne[static_cast<std::size_t>(ones++)]) = perWork;
+        if (static_cast<std::size_t>(++trialAt) < kTrial.size()) return;
+        const double one = median(trialOne), both = median(trialTwo);
+        const bool choice = both <= (two ? kKeep : kTake) * one;
+        lastStay = choice == two && lastStay > 0 ? std::min(2 * lastStay, kLongestStay) : kFirstStay;
+        stayLeft = lastStay;
+        two = choice;
+        found = two ? both : one;
+        trialAt = -1;
+    }
+
     /// True while the caller is to run both halves itself; counts `hand-overs` of them.
     bool alone(std::uint64_t handOvers) {
+        if (judged) return !two;
         if (aloneLeft == 0) return false;
         aloneLeft -= std::min(aloneLeft, handOvers);
         return true;
@@ -141,12 +207,13 @@ struct SecondThread::Shared {
 
     /// Hands `next` (nullptr: nothing, only wake) to the thread, once the last is done; returns its
     /// number.
-    std::uint64_t post(const std::function<void()>* next) {
+    std::uint64_t post(const std::function<void()>* next, bool timed) {
         finish();
         std::uint64_t number = 0;
         {
             const std::lock_guard<std::mutex> lock(mutex);
             work = next;
+            timeWork = timed;
             number = posted.load(std::memory_order_relaxed) + 1;
             if (next == nullptr) {  // nothing to run: taken and done as it is posted
                 claimed.store(number, std::memory_order_relaxed);
@@ -182,20 +249,22 @@ struct SecondThread::Shared {
             }
             if (stop) return;
             const std::function<void()>* next = nullptr;
+            bool timed = false;
             {
                 const std::lock_guard<std::mutex> lock(mutex);
                 next = work;
+                timed = timeWork;
                 seen = posted.load(std::memory_order_relaxed);
             }
             spin = next == nullptr ? kWokenSpin : kSpin;  // woken: the hand-over comes after the preparations
             if (next != nullptr && claim(seen)) {
-                const std::chrono::nanoseconds start = onCore();
+                const std::chrono::nanoseconds start = timed ? onCore() : std::chrono::nanoseconds(0);
                 try {
                     (*next)();
                 } catch (...) {
                     error = std::current_exception();
                 }
-                theirsOnCore = onCore() - start;
+                if (timed) theirsOnCore = onCore() - start;
                 done.store(seen, std::memory_order_release);
             }
         }
@@ -210,18 +279,21 @@ SecondThread& SecondThread::operator=(const SecondThread&) { return *this; }
 bool SecondThread::helps() { return !shared_->alone(1) && shared_->started(); }
 
 void SecondThread::wake() {
-    if (!shared_->alone(0) && shared_->started()) shared_->post(nullptr);
+    if (!shared_->alone(0) && shared_->started()) shared_->post(nullptr, false);
 }
 
 void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs) {
-    if (!use || shared_->alone(1) || !shared_->started()) {
+    // In a timed stage the Stage has chosen already (a stage on one thread passes no SecondThread).
+    if (!use || (!shared_->inStage && shared_->alone(1)) || !shared_->started()) {
         mine();
         theirs();
         return;
     }
+    // Hand-overs are accounted one by one only where no stage is timed.
+    const bool account = !shared_->judged;
     const auto posted = Shared::Clock::now();
-    const std::chrono::nanoseconds callerOnCore = onCore();
-    const std::uint64_t number = shared_->post(&theirs);
+    const std::chrono::nanoseconds callerOnCore = account ? onCore() : std::chrono::nanoseconds(0);
+    const std::uint64_t number = shared_->post(&theirs, account);
     std::exception_ptr mineFailed, theirsFailed;
     try {
         mine();
@@ -229,7 +301,7 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         mineFailed = std::current_exception();
     }
     const auto mineDone = Shared::Clock::now();
-    const std::chrono::nanoseconds mineOnCore = onCore() - callerOnCore;
+    const std::chrono::nanoseconds mineOnCore = account ? onCore() - callerOnCore : std::chrono::nanoseconds(0);
     // Their half not begun yet (the second thread may be waiting for a core that another program
     // holds): this thread runs it, and never waits for a core that is not free.
     const bool claimed = shared_->claim(number);
@@ -242,16 +314,42 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         shared_->done.store(number, std::memory_order_release);
     }
     shared_->finish();
-    const auto allDone = Shared::Clock::now();
-    const Shared::Clock::duration offCore = (allDone - posted) - (onCore() - callerOnCore);
-    const Shared::Clock::duration gain =
-        (claimed ? -Shared::Clock::duration(kClaimCost)
-                 : std::min(shared_->theirsOnCore, mineOnCore) - (allDone - mineDone)) -
-        std::max(offCore, Shared::Clock::duration(0));
-    shared_->book(gain);
+    if (account) {
+        const auto allDone = Shared::Clock::now();
+        const Shared::Clock::duration offCore = (allDone - posted) - (onCore() - callerOnCore);
+        const Shared::Clock::duration gain =
+            (claimed ? -Shared::Clock::duration(kClaimCost)
+                     : std::min(shared_->theirsOnCore, mineOnCore) - (allDone - mineDone)) -
+            std::max(offCore, Shared::Clock::duration(0));
+        shared_->book(gain);
+    }
     if (mineFailed) std::rethrow_exception(mineFailed);
     if (theirsFailed) std::rethrow_exception(theirsFailed);
     if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));
+}
+
+SecondThread::Stage::Stage(SecondThread* second, std::size_t work)
+    : timed_(second != nullptr && second->shared_->started() ? second : nullptr),
+      use_(nullptr),
+      work_(work),
+      begun_(0) {
+    if (timed_ == nullptr) return;
+    Shared& shared = *timed_->shared_;
+    shared.judged = true;
+    shared.inStage = true;
+    if (shared.nextOnTwo()) {
+        use_ = timed_;
+        shared.post(nullptr, false);  // woken to spin through the stage's preparations
+    }
+    begun_ = nowNs();
+}
+
+SecondThread::Stage::~Stage() {
+    if (timed_ == nullptr) return;
+    const double took = static_cast<double>(nowNs() - begun_);
+    Shared& shared = *timed_->shared_;
+    shared.inStage = false;
+    shared.judge(use_ != nullptr, took / static_cast<double>(std::max<std::size_t>(work_, 1)));
 }
 
 }  // namespace gpl

@@ -11,13 +11,25 @@
 // halves touch different data gets the same result either way. The caller does the same when its
 // own half is done before the second thread has begun the other: on a machine whose other core is
 // busy with another program, a stage then takes the time of one thread, not the wait for a core.
-// And the thread count follows what the machine gives now: the caller keeps account of what each
-// hand-over gained (the other half's time on the second thread's core, less the caller's wait for
-// it), and once the second thread has cost more than it gained, it runs both halves itself for a
-// while, the second thread asleep, then tries two threads again, staying alone longer after each
-// try that fails.
+//
+// Whether two threads pay is judged by what a whole stage costs, not by the hand-overs: two halves
+// beside each other on two cores can take longer than one after the other on one (their bodies pass
+// between the cores' caches, the cores share the machine with other programs), which no hand-over
+// sees. A stage that runs alike on one thread or two times itself with a Stage: now and then it runs
+// a few times on one thread and on two in turn (a trial), and then keeps the cheaper, judged by its
+// median time per unit of work on each; two threads are taken back only when they gain a clear
+// margin. After a trial that confirms the choice the next comes twice as late (in stages, up to
+// kLongestStay), after one that changes it soon; a stage that grows clearly slower than its trial
+// found brings the next trial forward. While one thread is the choice the second thread sleeps, and
+// the other stages of the step (the broad phase, collision detection) take their one-thread paths
+// too (helps()). A stage that does not time itself (hand-overs outside any Stage, where no Stage has
+// ever been timed) is judged hand-over by hand-over instead: what the other half took on the second
+// thread's core less the caller's wait for it, and the caller runs alone for a while once that has
+// cost more than it gained.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <functional>
 
 namespace gpl {
@@ -35,12 +47,34 @@ public:
     /// second thread no core, runs mine() and then theirs() here. An exception from theirs() is
     /// thrown here once mine() has ended.
     void run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs);
-    /// Whether run() hands theirs() to the second thread now; false without a thread and while the
-    /// machine gives it no core. A stage may then take its one-thread path, whose result is the same.
+    /// Whether run() hands theirs() to the second thread now; false without a thread, while the
+    /// timed stages find one thread cheaper, and while the machine gives it no core. A stage may then
+    /// take its one-thread path, whose result is the same.
     bool helps();
     /// Makes the thread (on first use) and wakes it, so that it is spinning, not asleep, when the
     /// next run() comes: for a stage to call when it begins its preparations.
     void wake();
+
+    /// One run of a stage that runs alike on one thread or two, timed from its making to its end
+    /// (the stage's scope). `work` measures the run's size (a friction stage's contact points), so
+    /// that runs of different sizes compare by their time per unit of work.
+    class Stage {
+    public:
+        /// `second` null: one thread, untimed.
+        Stage(SecondThread* second, std::size_t work);
+        ~Stage();
+        Stage(const Stage&) = delete;
+        Stage& operator=(const Stage&) = delete;
+        /// The second thread, or nullptr where this run is on one thread: what the stage hands its
+        /// halves to.
+        SecondThread* second() const { return use_; }
+
+    private:
+        SecondThread* timed_;
+        SecondThread* use_;
+        std::size_t work_;
+        std::int64_t begun_;  ///< ns, steady clock
+    };
 
 private:
     /// The thread and what it shares with the caller, owned (second_thread.cpp). Hidden, and held by
