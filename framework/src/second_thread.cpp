@@ -57,11 +57,10 @@ constexpr std::uint64_t kLongestAlone = 4096;
 // holds for a stay of runs: kFirstStay after a trial that changed it, twice the last stay after one
 // that confirmed it, up to kLongestStay; kSlowRuns runs in a row slower than kSlower times what the
 // trial found bring the next trial forward.
-constexpr std::array<bool, 16> kTrial{false, true, true, false, true, false, false, true,
-                                      false, true, true, false, true, false, false, true};
+constexpr std::array<bool, 8> kTrial{false, true, true, false, true, false, false, true};
 constexpr double kKeep = 0.98;
 constexpr double kTake = 0.95;
-constexpr std::uint64_t kFirstStay = 32;
+constexpr std::uint64_t kFirstStay = 64;
 constexpr std::uint64_t kLongestStay = 1024;
 constexpr double kSlower = 1.5;
 constexpr int kSlowRuns = 4;

@@ -27,17 +27,17 @@ int stagesOnTwo(SecondThread& second, int runs, int last, milliseconds onOne, mi
 }
 
 TEST(SecondThread, TimedStagesRunOnTheThreadCountThatCostsLess) {
-    // The first 16 runs are a trial on both; the cheaper is kept for the stay that follows (32 runs).
+    // The first 8 runs are a trial on both; the cheaper is kept for the stay that follows (64 runs).
     SecondThread slowerOnTwo;
-    EXPECT_EQ(stagesOnTwo(slowerOnTwo, 28, 12, milliseconds(10), milliseconds(40)), 0);
+    EXPECT_EQ(stagesOnTwo(slowerOnTwo, 20, 12, milliseconds(10), milliseconds(40)), 0);
     EXPECT_FALSE(slowerOnTwo.helps());  // and the other stages take their one-thread paths
     SecondThread fasterOnTwo;
-    EXPECT_EQ(stagesOnTwo(fasterOnTwo, 24, 8, milliseconds(40), milliseconds(10)), 8);
+    EXPECT_EQ(stagesOnTwo(fasterOnTwo, 20, 12, milliseconds(40), milliseconds(10)), 12);
     EXPECT_TRUE(fasterOnTwo.helps());
     // Two threads that turn slower (another program takes the second core) lose the choice at a
-    // trial that the first slow runs bring forward (a quarter into the stay), and one thread holds
+    // trial that the first slow runs bring forward (early in the stay), and one thread holds
     // for the stay after it.
-    EXPECT_EQ(stagesOnTwo(fasterOnTwo, 28, 8, milliseconds(20), milliseconds(50)), 0);
+    EXPECT_EQ(stagesOnTwo(fasterOnTwo, 20, 8, milliseconds(20), milliseconds(50)), 0);
     // A stage on one thread runs on one, untimed.
     const SecondThread::Stage none(nullptr, 1000);
     EXPECT_EQ(none.second(), nullptr);
