@@ -27,7 +27,7 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h, SecondThread*
     assert(h > 0.0);
     const std::size_t n = points.size();
     start_.assign(n + 1, 0);
-    list_.clear();
+    total_ = 0;
     if (n == 0) return;
 
     // The grid: the points' bounding box in cells of side h, wider where they would be too many.
@@ -75,26 +75,29 @@ void ParticleGrid::find(const std::vector<Vec3>& points, double h, SecondThread*
     // Each point's neighbours from its own cell and the 26 around it: on two threads, the second
     // half's into a list of its own, joined after the first half's.
     const std::size_t middle = second ? n / 2 : n;
+    std::size_t used[2] = {0, 0};
     // Each half's function holds one reference, which std::function keeps without allocating.
     const auto half = [&](int which) {
         if (which == 0)
-            search(points, h, 0, middle, list_);
+            used[0] = search(points, h, 0, middle, list_);
         else
-            search(points, h, middle, n, secondList_);
+            used[1] = search(points, h, middle, n, secondList_);
     };
     if (second) {
         second->run(
             true, [&half] { half(0); }, [&half] { half(1); });
-        const auto before = static_cast<std::uint32_t>(list_.size());
-        for (std::size_t i = middle; i < n; ++i) start_[i + 1] += before;
-        list_.insert(list_.end(), secondList_.begin(), secondList_.end());
+        for (std::size_t i = middle; i < n; ++i) start_[i + 1] += static_cast<std::uint32_t>(used[0]);
+        if (list_.size() < used[0] + used[1]) list_.resize(used[0] + used[1]);
+        std::copy(secondList_.begin(), secondList_.begin() + static_cast<std::ptrdiff_t>(used[1]),
+                  list_.begin() + static_cast<std::ptrdiff_t>(used[0]));
     } else {
         half(0);
     }
+    total_ = used[0] + used[1];
 }
 
-void ParticleGrid::search(const std::vector<Vec3>& points, double h, std::size_t begin, std::size_t end,
-                          std::vector<std::uint32_t>& out) {
+std::size_t ParticleGrid::search(const std::vector<Vec3>& points, double h, std::size_t begin, std::size_t end,
+                                 std::vector<std::uint32_t>& out) {
     const double h2 = h * h;
     // A cell is left out when the nearest of its points lies h or farther from the particle; the
     // margin keeps a cell whose points were filed across its face by rounding.
@@ -102,7 +105,6 @@ void ParticleGrid::search(const std::vector<Vec3>& points, double h, std::size_t
         1e-9 * (side_ + origin_.cwiseAbs().maxCoeff() + side_ * cells_[0] + side_ * cells_[1] + side_ * cells_[2]);
     const auto squared = [](double gap) { return gap > 0.0 ? gap * gap : 0.0; };
     std::size_t used = 0;
-    out.resize(out.capacity());
     for (std::size_t i = begin; i < end; ++i) {
         const Vec3 q = points[i];
         const std::uint32_t cell = cellOf_[i];
@@ -148,7 +150,7 @@ void ParticleGrid::search(const std::vector<Vec3>& points, double h, std::size_t
         used += found;
         start_[i + 1] = static_cast<std::uint32_t>(used);
     }
-    out.resize(used);
+    return used;
 }
 
 }  // namespace gpl
