@@ -131,7 +131,7 @@ struct SecondThread::Shared {
     Clock::duration gained{0};       ///< since the last time alone, at most kCredit
 
     // The judge of timed stages (only the caller reads and writes it).
-    bool judged = false;       ///< a stage has been timed: the judge decides, not the account
+    bool judged = false;       ///< a stage has been timed: the judge chooses for the other stages
     bool inStage = false;      ///< a timed stage runs now: its hand-overs book nothing
     bool two = true;           ///< the choice
     int trialAt = 0;           ///< the next run's place in kTrial, or -1 between trials
@@ -164,9 +164,11 @@ struct SecondThread::Shared {
         trialAt = -1;
     }
 
-    /// True while the caller is to run both halves itself; counts `hand-overs` of them.
+    /// True while the caller is to run both halves itself: outside a timed stage while the judge
+    /// has chosen one thread, or while the account of the hand-overs says so (counts `hand-overs` of
+    /// them).
     bool alone(std::uint64_t handOvers) {
-        if (judged) return !two;
+        if (judged && !inStage && !two) return true;
         if (aloneLeft == 0) return false;
         aloneLeft -= std::min(aloneLeft, handOvers);
         return true;
@@ -282,17 +284,16 @@ void SecondThread::wake() {
 }
 
 void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs) {
-    // In a timed stage the Stage has chosen already (a stage on one thread passes no SecondThread).
-    if (!use || (!shared_->inStage && shared_->alone(1)) || !shared_->started()) {
+    // In a timed stage the Stage has chosen already (a stage on one thread passes no SecondThread);
+    // the account of the hand-overs still sends the caller alone where they lose, as outside.
+    if (!use || shared_->alone(1) || !shared_->started()) {
         mine();
         theirs();
         return;
     }
-    // Hand-overs are accounted one by one only where no stage is timed.
-    const bool account = !shared_->judged;
     const auto posted = Shared::Clock::now();
-    const std::chrono::nanoseconds callerOnCore = account ? onCore() : std::chrono::nanoseconds(0);
-    const std::uint64_t number = shared_->post(&theirs, account);
+    const std::chrono::nanoseconds callerOnCore = onCore();
+    const std::uint64_t number = shared_->post(&theirs, true);
     std::exception_ptr mineFailed, theirsFailed;
     try {
         mine();
@@ -300,7 +301,7 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         mineFailed = std::current_exception();
     }
     const auto mineDone = Shared::Clock::now();
-    const std::chrono::nanoseconds mineOnCore = account ? onCore() - callerOnCore : std::chrono::nanoseconds(0);
+    const std::chrono::nanoseconds mineOnCore = onCore() - callerOnCore;
     // Their half not begun yet (the second thread may be waiting for a core that another program
     // holds): this thread runs it, and never waits for a core that is not free.
     const bool claimed = shared_->claim(number);
@@ -313,15 +314,13 @@ void SecondThread::run(bool use, const std::function<void()>& mine, const std::f
         shared_->done.store(number, std::memory_order_release);
     }
     shared_->finish();
-    if (account) {
-        const auto allDone = Shared::Clock::now();
-        const Shared::Clock::duration offCore = (allDone - posted) - (onCore() - callerOnCore);
-        const Shared::Clock::duration gain =
-            (claimed ? -Shared::Clock::duration(kClaimCost)
-                     : std::min(shared_->theirsOnCore, mineOnCore) - (allDone - mineDone)) -
-            std::max(offCore, Shared::Clock::duration(0));
-        shared_->book(gain);
-    }
+    const auto allDone = Shared::Clock::now();
+    const Shared::Clock::duration offCore = (allDone - posted) - (onCore() - callerOnCore);
+    const Shared::Clock::duration gain =
+        (claimed ? -Shared::Clock::duration(kClaimCost)
+                 : std::min(shared_->theirsOnCore, mineOnCore) - (allDone - mineDone)) -
+        std::max(offCore, Shared::Clock::duration(0));
+    shared_->book(gain);
     if (mineFailed) std::rethrow_exception(mineFailed);
     if (theirsFailed) std::rethrow_exception(theirsFailed);
     if (shared_->error) std::rethrow_exception(std::exchange(shared_->error, nullptr));

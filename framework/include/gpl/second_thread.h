@@ -16,16 +16,17 @@
 // beside each other on two cores can take longer than one after the other on one (their bodies pass
 // between the cores' caches, the cores share the machine with other programs), which no hand-over
 // sees. A stage that runs alike on one thread or two times itself with a Stage: now and then it runs
-// a few times on one thread and on two in turn (a trial), and then keeps the cheaper, judged by its
-// median time per unit of work on each; two threads are taken back only when they gain a clear
-// margin. After a trial that confirms the choice the next comes twice as late (in stages, up to
-// kLongestStay), after one that changes it soon; a stage that grows clearly slower than its trial
-// found brings the next trial forward. While one thread is the choice the second thread sleeps, and
-// the other stages of the step (the broad phase, collision detection) take their one-thread paths
-// too (helps()). A stage that does not time itself (hand-overs outside any Stage, where no Stage has
-// ever been timed) is judged hand-over by hand-over instead: what the other half took on the second
-// thread's core less the caller's wait for it, and the caller runs alone for a while once that has
-// cost more than it gained.
+// a few times on one thread and on two in turn (a trial), and keeps two threads only where their
+// median time per unit of work is clearly below one thread's, one thread where the two are about
+// even (second_thread.cpp says by how much). After a trial that confirms the choice the next comes
+// twice as late, in stages, after one that changes it soon; a stage that grows clearly slower than
+// its trial found brings the next trial forward. While one thread is the choice the second thread
+// sleeps, and the other stages of the step (the broad phase, collision detection) take their
+// one-thread paths too (helps()). And hand-over by hand-over, in a timed stage or not, the caller keeps account of
+// what the second thread gained (the other half's time on the second thread's core, less the
+// caller's wait for it), and runs both halves itself for a while once the second thread has cost
+// more than it gained: the brake for a second core that another program takes between two trials,
+// and the whole judge of a stage that does not time itself.
 #pragma once
 
 #include <cstddef>
