@@ -22,11 +22,11 @@
 // twice as late, in stages, after one that changes it soon; a stage that grows clearly slower than
 // its trial found brings the next trial forward. While one thread is the choice the second thread
 // sleeps, and the other stages of the step (the broad phase, collision detection) take their
-// one-thread paths too (helps()). And hand-over by hand-over, in a timed stage or not, the caller keeps account of
-// what the second thread gained (the other half's time on the second thread's core, less the
-// caller's wait for it), and runs both halves itself for a while once the second thread has cost
-// more than it gained: the brake for a second core that another program takes between two trials,
-// and the whole judge of a stage that does not time itself.
+// one-thread paths too (helps()). And hand-over by hand-over, in a timed stage or not, the caller
+// keeps account of what the second thread gained (the other half's time on the second thread's
+// core, less the caller's wait for it), and runs both halves itself for a while once the second
+// thread has cost more than it gained: the brake for a second core that another program takes
+// between two trials, and the whole judge of a stage that does not time itself.
 #pragma once
 
 #include <cstddef>
