@@ -196,6 +196,7 @@ void PhysicsEngine::setThreads(int threads) {
     if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
     broadPhase_.setThreads(threads);
     soft_.setThreads(threads);
+    fluids_.setThreads(threads);
 }
 
 void PhysicsEngine::setContainer(const Vec3& centre, double radius) {

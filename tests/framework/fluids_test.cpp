@@ -405,6 +405,14 @@ TEST(Fluids, ThreadsBelowOneAreRefused) {
     EXPECT_EQ(f.threads(), 2);
 }
 
+TEST(Fluids, TheEnginesThreadCountReachesTheFluid) {
+    PhysicsEngine engine;
+    engine.setThreads(1);
+    EXPECT_EQ(engine.fluids().threads(), 1);
+    engine.setThreads(2);
+    EXPECT_EQ(engine.fluids().threads(), 2);
+}
+
 // ---- The dam break against Martin and Moyce (1952) -----------------------------------------------
 
 // The scene's surge front against Martin and Moyce's measurements (kMartinMoyce,

@@ -153,10 +153,10 @@ public:
         return interpenetrationIterations_ > 0 ? interpenetrationIterations_ : contactIterations_;
     }
     void setInterpenetrationIterations(int iterations);
-    /// Threads the broad phase and the friction stage may use: 1, or 2 (the default on a machine
-    /// with two cores or more), which they use only for scenes large enough to gain (the second
-    /// thread is made then, and kept by the engine); the results are the same to the bit either way.
-    /// Throws std::invalid_argument below 1.
+    /// Threads the broad phase, the friction stage, the soft bodies and the fluid may use: 1, or 2
+    /// (the default on a machine with two cores or more), which they use only for scenes large
+    /// enough to gain (the second thread is made then, and kept by the engine); the results are the
+    /// same to the bit either way. Throws std::invalid_argument below 1.
     int threads() const { return broadPhase_.threads(); }
     void setThreads(int threads);
 
