@@ -257,7 +257,7 @@ def _limited(argv, binds, writable, limits, launcher, cwd):
         inner = list(argv)
         if group is None:  # no cgroup: the address space is the memory limit
             inner = ["/usr/bin/prlimit", f"--as={int(limits.memory_mib * 2) << 20}", "--"] + inner
-        inner = ["/usr/bin/prlimit", f"--fsize={int(limits.file_mib) << 20}", f"--cpu={int(limits.seconds)}",
+        inner = ["/usr/bin/prlimit", f"--fsize={int(limits.file_mib) << 20}", f"--cpu={limits.cpu_seconds()}",
                  "--core=0", "--"] + inner
         cmd, env = here.compile_command(inner, binds, writable, limits, group, launcher, cwd)
         rc, out, why = run_limited(cmd, limits.seconds, env=env, cwd=cwd if not here.isolated else None)
@@ -350,7 +350,9 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
         elif rc != 0 or not (tmp / "out" / "hook.o").exists():
             errors = out.strip() or f"{name}: error: the compiler failed (status {rc})"
         if errors is not None:
-            if not why:  # a limit may have been the machine's load: tried again next time
+            # A limit, or the compiler ended by a signal (the kernel's CPU or memory limit), may have
+            # been the machine's load: tried again next time.
+            if not why and "signal terminated program" not in errors:
                 _write_new(err, errors)
             return Compiled(None, errors)
         os.replace(tmp / "out" / "hook.o", obj)
