@@ -31,7 +31,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 TRUSTED_TARGETS = ["gpl-checker", "gpl-launch", "gpl_hooks_server_main", "gpl_grading_protocol", "gpl_framework",
                    "gpl_hook_pch"]
 # A hook file compiles in about a second; the compiler is stopped at these.
-COMPILE_LIMITS = Limits(seconds=20, memory_mib=2048, threads=16, file_mib=256)
+COMPILE_LIMITS = Limits(seconds=60, memory_mib=2048, threads=16, file_mib=256)
 LINK_LIMITS = Limits(seconds=120, memory_mib=2048, threads=16, file_mib=512)
 # Inside the sandbox: the framework's headers, the precompiled header, the hook files, the objects.
 INCLUDE, PCH, SOURCES, OBJECTS, OUT, LINK = "/gpl/include", "/gpl/pch", "/gpl/src", "/gpl/obj", "/gpl/out", "/gpl/link"
