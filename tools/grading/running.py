@@ -466,9 +466,13 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
             _kill_tree(runner)
             result.runner_rc = _status(runner, block=True)
         if result.checker_rc is None:
-            # The engine is gone: a checker waiting for it reads the end of its pipe and finishes.
-            finish = time.monotonic() + (0.1 if result.why else 2.0)
+            # The engine is gone: a checker waiting for it reads the end of its pipe and finishes. At
+            # a limit it is ended, once it has noted the call in flight (SIGUSR2 above; a busy
+            # machine may not have run it yet) or half a second has passed.
+            finish = time.monotonic() + (0.5 if result.why else 2.0)
             while result.checker_rc is None and time.monotonic() < finish:
+                if result.why and any(e[0] == "waiting" for e in _checker_status(folder)):
+                    break
                 time.sleep(0.01)
                 result.checker_rc = _status(checker)
             if result.checker_rc is None:
