@@ -327,9 +327,9 @@ class Pair:
 def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
     """Runs one graded test: the engine first (in the sandbox, within its limits), then the checker,
     wired by two pipes; the time limit applies to the pair (LOAD_ALLOWANCE: from the engine's start,
-    less the pair's waits for a core). At a limit the checker is asked which call was in flight (SIGUSR2) and
-    the engine to write its call stack (SIGUSR1); when the checker ends, every process of the engine
-    is killed."""
+    less the pair's waits for a core). At a limit the checker is asked which call was in flight
+    (SIGUSR2) and the engine to write its call stack (SIGUSR1); when the checker ends, every process
+    of the engine is killed."""
     sandbox_here = sandbox_here or sandbox.Sandbox.here()
     cgroups = cgroups or Cgroups.here()
     folder = pathlib.Path(folder)
