@@ -197,16 +197,17 @@ void SoftBodies::collectSelfPairs(const SoftMesh& mesh, double travel) {
 void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodies) {
     // The second thread, if a mesh's halves are to be swept on it, woken to spin while this one prepares.
     const auto cut = [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; };
-    const bool halves = std::any_of(meshes.begin(), meshes.end(), cut);
-    if (threads_ > 1 && halves) second_.wake();
-    if (halves) groupContacts();
+    const auto cutMeshes = std::count_if(meshes.begin(), meshes.end(), cut);
+    if (threads_ > 1 && cutMeshes > 0) second_.wake();
+    if (cutMeshes > 0) groupContacts();
     // On two threads, a cut mesh's halves' contacts are pushed out right after their half's links.
     struct HalfContacts {
         SoftBodies& soft;
         const std::vector<Body>& bodies;
         double h;
+        int iterations;
         std::size_t mesh;
-    } halfContacts{*this, bodies, h, 0};
+    } halfContacts{*this, bodies, h, iterations, 0};
     const std::function<void(int)> pushHalfContacts = [&halfContacts](int half) {
         SoftBodies& soft = halfContacts.soft;
         const std::size_t group = 2 * halfContacts.mesh + static_cast<std::size_t>(half);
@@ -220,74 +221,95 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         c.depth = 0.0;
         c.friction = Vec3::Zero();
     }
+    if (threads_ > 1 && cutMeshes == 1 && selfPairs.empty()) {
+        // One cut mesh and no self-collision pairs, on two threads: each half's sweeps overlap the
+        // rest of the sweep before (soft_sweeps.h), with the result of the loop below to the bit.
+        halfContacts.mesh = static_cast<std::size_t>(std::find_if(meshes.begin(), meshes.end(), cut) - meshes.begin());
+        const std::function<void()> sweepRest = [&halfContacts] {
+            SoftBodies& soft = halfContacts.soft;
+            for (const SoftMesh& mesh : soft.meshes) {
+                const bool halves = &mesh == &soft.meshes[halfContacts.mesh];
+                soft.sweepMesh(mesh, mesh.firstLink + (halves ? mesh.firstHalfLinks + mesh.secondHalfLinks : 0),
+                               halfContacts.h, halfContacts.iterations);
+            }
+            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_.back(), soft.contacts.size());
+        };
+        sweepOverlapped(meshes[halfContacts.mesh], links, p, w, h, iterations, second_, pushHalfContacts, sweepRest);
+        catchMissedContacts(bodies);
+        return;
+    }
     for (int iteration = 0; iteration < iterations; ++iteration) {
         for (std::size_t m = 0; m < meshes.size(); ++m) {
             const SoftMesh& mesh = meshes[m];
             // A mesh cut in halves, on two threads: the halves' links swept at once (soft_sweeps.h),
-            // the same kernel on each, with the result of the loops below to the bit, each followed
-            // by its contacts; then the rest.
+            // the same kernel on each, with the result of sweepMesh() to the bit, each followed by
+            // its contacts; then the rest.
             std::uint32_t firstLink = mesh.firstLink;
             if (threads_ > 1 && mesh.firstHalfLinks > 0) {
                 halfContacts.mesh = m;
                 sweepHalves(mesh, links, p, w, h, iterations, second_, pushHalfContacts);
                 firstLink += mesh.firstHalfLinks + mesh.secondHalfLinks;
             }
-            const std::uint32_t lastLink = mesh.firstLink + mesh.linkCount;
-            const std::uint32_t lastVolume = mesh.firstVolume + mesh.volumeCount;
-            if (mesh.method == SoftMethod::XPBD) {
-                // XPBD: each constraint with its compliance, its multiplier summed over the sweeps.
-                for (std::uint32_t k = firstLink; k < lastLink; ++k) {
-                    DistanceLink& link = links[k];
-                    const DistanceCorrection c = solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j],
-                                                                         link.rest, link.compliance, h, link.lambda);
-                    p[link.i] += c.dx1;
-                    p[link.j] += c.dx2;
-                    link.lambda += c.dlambda;
-                }
-                for (std::uint32_t k = mesh.firstVolume; k < lastVolume; ++k) {
-                    TetVolume& tet = volumes[k];
-                    const auto& t = tet.v;
-                    const VolumeCorrection c = solveVolumeConstraint({p[t[0]], p[t[1]], p[t[2]], p[t[3]]},
-                                                                     {w[t[0]], w[t[1]], w[t[2]], w[t[3]]}, tet.rest,
-                                                                     tet.compliance, h, tet.lambda);
-                    for (int corner = 0; corner < 4; ++corner) p[t[corner]] += c.dx[corner];
-                    tet.lambda += c.dlambda;
-                }
-            } else {
-                // PBD: each projection with alpha = 0, scaled by the per-sweep stiffness
-                // 1 - (1 - k)^(1/n), so that n sweeps of a constraint of stiffness k leave (1 - k) of it.
-                double stiffness = -1.0, perSweep = 0.0;  // the last stiffness seen, and its per-sweep share
-                const auto sweepShare = [&](double k) {
-                    if (k != stiffness) {
-                        stiffness = k;
-                        perSweep = 1.0 - std::pow(1.0 - k, 1.0 / iterations);
-                    }
-                    return perSweep;
-                };
-                for (std::uint32_t k = firstLink; k < lastLink; ++k) {
-                    const DistanceLink& link = links[k];
-                    const double share = sweepShare(link.stiffness);
-                    const DistanceCorrection c =
-                        solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j], link.rest, 0.0, h, 0.0);
-                    p[link.i] += share * c.dx1;
-                    p[link.j] += share * c.dx2;
-                }
-                for (std::uint32_t k = mesh.firstVolume; k < lastVolume; ++k) {
-                    const TetVolume& tet = volumes[k];
-                    const auto& t = tet.v;
-                    const double share = sweepShare(tet.stiffness);
-                    const VolumeCorrection c = solveVolumeConstraint(
-                        {p[t[0]], p[t[1]], p[t[2]], p[t[3]]}, {w[t[0]], w[t[1]], w[t[2]], w[t[3]]}, tet.rest, 0.0, h, 0.0);
-                    for (int corner = 0; corner < 4; ++corner) p[t[corner]] += share * c.dx[corner];
-                }
-            }
+            sweepMesh(mesh, firstLink, h, iterations);
         }
         // Contacts last, so that no particle ends a sweep inside a body (on two threads, those of cut
         // meshes' halves went with their links).
         pushSelfPairs();
-        pushOutOfBodies(h, bodies, threads_ > 1 && halves ? contactGroups_.back() : 0, contacts.size());
+        pushOutOfBodies(h, bodies, threads_ > 1 && cutMeshes > 0 ? contactGroups_.back() : 0, contacts.size());
     }
     catchMissedContacts(bodies);
+}
+
+void SoftBodies::sweepMesh(const SoftMesh& mesh, std::uint32_t firstLink, double h, int iterations) {
+    const std::uint32_t lastLink = mesh.firstLink + mesh.linkCount;
+    const std::uint32_t lastVolume = mesh.firstVolume + mesh.volumeCount;
+    if (mesh.method == SoftMethod::XPBD) {
+        // XPBD: each constraint with its compliance, its multiplier summed over the sweeps.
+        for (std::uint32_t k = firstLink; k < lastLink; ++k) {
+            DistanceLink& link = links[k];
+            const DistanceCorrection c = solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j],
+                                                                 link.rest, link.compliance, h, link.lambda);
+            p[link.i] += c.dx1;
+            p[link.j] += c.dx2;
+            link.lambda += c.dlambda;
+        }
+        for (std::uint32_t k = mesh.firstVolume; k < lastVolume; ++k) {
+            TetVolume& tet = volumes[k];
+            const auto& t = tet.v;
+            const VolumeCorrection c = solveVolumeConstraint({p[t[0]], p[t[1]], p[t[2]], p[t[3]]},
+                                                             {w[t[0]], w[t[1]], w[t[2]], w[t[3]]}, tet.rest,
+                                                             tet.compliance, h, tet.lambda);
+            for (int corner = 0; corner < 4; ++corner) p[t[corner]] += c.dx[corner];
+            tet.lambda += c.dlambda;
+        }
+        return;
+    }
+    // PBD: each projection with alpha = 0, scaled by the per-sweep stiffness 1 - (1 - k)^(1/n), so
+    // that n sweeps of a constraint of stiffness k leave (1 - k) of it.
+    double stiffness = -1.0, perSweep = 0.0;  // the last stiffness seen, and its per-sweep share
+    const auto sweepShare = [&](double k) {
+        if (k != stiffness) {
+            stiffness = k;
+            perSweep = 1.0 - std::pow(1.0 - k, 1.0 / iterations);
+        }
+        return perSweep;
+    };
+    for (std::uint32_t k = firstLink; k < lastLink; ++k) {
+        const DistanceLink& link = links[k];
+        const double share = sweepShare(link.stiffness);
+        const DistanceCorrection c =
+            solveDistanceConstraint(p[link.i], p[link.j], w[link.i], w[link.j], link.rest, 0.0, h, 0.0);
+        p[link.i] += share * c.dx1;
+        p[link.j] += share * c.dx2;
+    }
+    for (std::uint32_t k = mesh.firstVolume; k < lastVolume; ++k) {
+        const TetVolume& tet = volumes[k];
+        const auto& t = tet.v;
+        const double share = sweepShare(tet.stiffness);
+        const VolumeCorrection c = solveVolumeConstraint({p[t[0]], p[t[1]], p[t[2]], p[t[3]]},
+                                                         {w[t[0]], w[t[1]], w[t[2]], w[t[3]]}, tet.rest, 0.0, h, 0.0);
+        for (int corner = 0; corner < 4; ++corner) p[t[corner]] += share * c.dx[corner];
+    }
 }
 
 void SoftBodies::pushSelfPairs() {

@@ -222,6 +222,7 @@ std::size_t SoftBodies::addMesh(SoftMesh mesh) {
     movedByRest_.resize(x.size(), 0);
     selfPaired_.resize(x.size(), 0);
     markMovedByTheRest(mesh, links, volumes, movedByRest_);
+    holdBackWaitingLinks(mesh, links, movedByRest_);
     meshes.push_back(std::move(mesh));
     force_.resize(x.size(), Vec3::Zero());
     return meshes.size() - 1;

@@ -2,10 +2,17 @@
 // and a sweep whose halves the second thread shares.
 #include "gpl/soft_sweeps.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <functional>
+#include <thread>
 
 #include "gpl/soft_constraints.h"
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
 namespace gpl {
 namespace {
@@ -62,6 +69,93 @@ void sweepHalf(const HalfSweep& s, int half) {
     s.then(half);
 }
 
+// What the two threads of sweepOverlapped() tell each other. It lies on the caller's stack, which
+// outlives both: SecondThread::run() returns when both threads are done.
+struct Overlap {
+    const HalfSweep& s;
+    const std::function<void()>& rest;
+    std::atomic<int> secondSweeper{0};  ///< who sweeps the second half: 0 nobody yet, 1 the second thread, 2 the caller
+    std::atomic<int> secondDone{0};     ///< sweeps whose second half (links and then(1)) is done
+    std::atomic<int> restDone{0};       ///< sweeps whose rest is done
+    std::atomic<bool> failed{false};    ///< a thread threw: the other stops waiting for it
+};
+
+// Spins until count reaches target (true), or until a thread failed (false). Every few microseconds
+// it offers the core to any other thread waiting for it.
+bool waitFor(const std::atomic<int>& count, int target, const std::atomic<bool>& failed) {
+    for (int k = 0;; ++k) {
+        if (count.load(std::memory_order_acquire) >= target) return true;
+        if (failed.load(std::memory_order_relaxed)) return false;
+#if defined(__x86_64__) || defined(__i386__)
+        _mm_pause();
+#endif
+        if ((k & 63) == 63) std::this_thread::yield();
+    }
+}
+
+// A half's links [begin, end): those that do not wait for the rest, or those that do.
+struct LinkRange {
+    std::uint32_t begin, end;
+};
+LinkRange readyLinks(const SoftMesh& mesh, int half) {
+    const std::uint32_t begin = mesh.firstLink + (half == 0 ? 0 : mesh.firstHalfLinks);
+    const std::uint32_t count = half == 0 ? mesh.firstHalfLinks : mesh.secondHalfLinks;
+    const std::uint32_t waiting = half == 0 ? mesh.firstHalfWaiting : mesh.secondHalfWaiting;
+    return {begin, begin + count - waiting};
+}
+LinkRange waitingLinks(const SoftMesh& mesh, int half) {
+    const std::uint32_t end = mesh.firstLink + mesh.firstHalfLinks + (half == 0 ? 0 : mesh.secondHalfLinks);
+    return {readyLinks(mesh, half).end, end};
+}
+void sweep(const HalfSweep& s, LinkRange range) { sweepLinkRange(s, range.begin, range.end); }
+
+// The second half's thread: sweep by sweep, its links that do not wait, then, once the sweep
+// before's rest is done, its waiting links and then(1).
+void sweepSecondHalves(Overlap& o) {
+    int nobody = 0;
+    if (!o.secondSweeper.compare_exchange_strong(nobody, 1)) return;  // the caller sweeps them
+    const HalfSweep& s = o.s;
+    try {
+        for (int k = 0; k < s.iterations; ++k) {
+            sweep(s, readyLinks(s.mesh, 1));
+            if (!waitFor(o.restDone, k, o.failed)) return;
+            sweep(s, waitingLinks(s.mesh, 1));
+            s.then(1);
+            o.secondDone.store(k + 1, std::memory_order_release);
+        }
+    } catch (...) {
+        o.failed = true;
+        throw;
+    }
+}
+
+// The caller: sweep by sweep, its half's waiting links and then(0), the next sweep's links that do
+// not wait, then (once the second half is done, or sweeping it here when no thread took it) the rest.
+void sweepFirstHalvesAndRest(Overlap& o) {
+    const HalfSweep& s = o.s;
+    try {
+        sweep(s, readyLinks(s.mesh, 0));
+        for (int k = 0; k < s.iterations; ++k) {
+            sweep(s, waitingLinks(s.mesh, 0));
+            s.then(0);
+            if (k + 1 < s.iterations) sweep(s, readyLinks(s.mesh, 0));
+            int nobody = 0;
+            if (o.secondSweeper.load(std::memory_order_relaxed) == 2 || o.secondSweeper.compare_exchange_strong(nobody, 2)) {
+                sweep(s, readyLinks(s.mesh, 1));
+                sweep(s, waitingLinks(s.mesh, 1));
+                s.then(1);
+            } else if (!waitFor(o.secondDone, k + 1, o.failed)) {
+                return;
+            }
+            o.rest();
+            o.restDone.store(k + 1, std::memory_order_release);
+        }
+    } catch (...) {
+        o.failed = true;
+        throw;
+    }
+}
+
 }  // namespace
 
 HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cut, std::size_t particles) {
@@ -99,6 +193,39 @@ void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::ve
     const std::function<void()> first = [&s] { sweepHalf(s, 0); };
     const std::function<void()> other = [&s] { sweepHalf(s, 1); };
     second.run(true, first, other);
+}
+
+void sweepOverlapped(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
+                     const std::vector<double>& w, double h, int iterations, SecondThread& second,
+                     const std::function<void(int)>& then, const std::function<void()>& rest) {
+    const HalfSweep s{mesh, links, p, w, h, iterations, then};
+    Overlap o{s, rest};
+    const std::function<void()> first = [&o] { sweepFirstHalvesAndRest(o); };
+    const std::function<void()> other = [&o] { sweepSecondHalves(o); };
+    second.run(true, first, other);
+}
+
+void holdBackWaitingLinks(SoftMesh& mesh, std::vector<DistanceLink>& links, const std::vector<char>& moved) {
+    std::vector<char> waits(moved);  // per particle: the rest or a waiting link moves it
+    std::vector<DistanceLink> ready, waiting;
+    for (int half = 0; half < 2; ++half) {
+        const std::uint32_t begin = mesh.firstLink + (half == 0 ? 0 : mesh.firstHalfLinks);
+        const std::uint32_t end = begin + (half == 0 ? mesh.firstHalfLinks : mesh.secondHalfLinks);
+        ready.clear();
+        waiting.clear();
+        for (std::uint32_t k = begin; k < end; ++k) {
+            const DistanceLink& link = links[k];
+            if (waits[link.i] || waits[link.j]) {
+                waits[link.i] = waits[link.j] = 1;
+                waiting.push_back(link);
+            } else {
+                ready.push_back(link);
+            }
+        }
+        std::copy(ready.begin(), ready.end(), links.begin() + begin);
+        std::copy(waiting.begin(), waiting.end(), links.begin() + begin + ready.size());
+        (half == 0 ? mesh.firstHalfWaiting : mesh.secondHalfWaiting) = static_cast<std::uint32_t>(waiting.size());
+    }
 }
 
 void markMovedByTheRest(const SoftMesh& mesh, const std::vector<DistanceLink>& links,

@@ -76,6 +76,9 @@ struct SoftMesh {
     /// A large mesh's links are stored as two halves and the rest (soft_sweeps.h): the halves' link
     /// counts, the first's from firstLink on, then the second's; 0 and 0 when it is not cut.
     std::uint32_t firstHalfLinks = 0, secondHalfLinks = 0;
+    /// Of each half's links, how many at its end wait for the rest of the sweep before them: those
+    /// that share a particle with the rest's links and volumes, or with an earlier such link.
+    std::uint32_t firstHalfWaiting = 0, secondHalfWaiting = 0;
     int nx = 0, ny = 0;  ///< cloth: the grid's size; particle (i, j) is first + j nx + i
 };
 
@@ -294,6 +297,8 @@ private:
 
     std::size_t addMesh(SoftMesh mesh);
     void collectSelfPairs(const SoftMesh& mesh, double travel);
+    /// One sweep of the mesh's links from firstLink on, then of its volumes, with their kernels.
+    void sweepMesh(const SoftMesh& mesh, std::uint32_t firstLink, double h, int iterations);
     void pushSelfPairs();
     /// Contacts [begin, end) pushed out of their bodies, with friction.
     void pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end);

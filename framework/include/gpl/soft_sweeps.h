@@ -9,9 +9,11 @@
 // rest, each in sweep order. That moves no link past an earlier one that shares a particle with it,
 // so a sweep in the stored order (the plain loop of SoftBodies::project()) gives the result of the
 // sweep order to the bit; so do the two halves swept at once on two threads (sweepHalves()) and then
-// the rest: the threads change nothing but the time. A cloth's links are built from both
-// edges towards the middle row (ClothSpec), so that the two halves wait for the cut alike and most
-// links do not wait at all.
+// the rest: the threads change nothing but the time. A cloth's links are built from both edges
+// towards the middle row (ClothSpec), so that the two halves wait for the cut alike and most links do
+// not wait at all. Within each half, the links that wait for the rest of the sweep before
+// (holdBackWaitingLinks()) come last, so that on two threads the others overlap that rest
+// (sweepOverlapped()).
 #pragma once
 
 #include <cstddef>
@@ -61,6 +63,26 @@ HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cu
 void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
                  const std::vector<double>& w, double h, int iterations, SecondThread& second,
                  const std::function<void(int)>& then);
+
+/// One cut mesh's sweeps on two threads, with the result of the plain loop of SoftBodies::project()
+/// to the bit, where nothing but the mesh's rest, the other meshes and the rest's contacts (rest())
+/// moves a particle that the rest's links and volumes move (no self-collision pairs): each half's
+/// links that do not wait for the rest (SoftMesh::firstHalfWaiting) depend on nothing of the sweep
+/// before but their own half, so they are swept while the rest of the sweep before is. The first
+/// half's thread (this one) sweeps, in each sweep, its half's waiting links and then(0), the next
+/// sweep's links that do not wait, and, once the second half's thread has swept its half and
+/// then(1), rest(); the second sweeps its links that do not wait and, once that rest is done, its
+/// waiting links and then(1). The second half goes to `second`, or is swept here in turn when that
+/// thread has not begun it by the end of this one's first half. One hand-over a step.
+void sweepOverlapped(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
+                     const std::vector<double>& w, double h, int iterations, SecondThread& second,
+                     const std::function<void(int)>& then, const std::function<void()>& rest);
+
+/// Stores each half's links that wait for the rest of the sweep after those that do not, each in
+/// their order, and sets mesh.firstHalfWaiting and secondHalfWaiting: in its half's order, a link
+/// waits when it moves a particle that moved[] marks (markMovedByTheRest()) or one that an earlier
+/// waiting link moves. No link moves past an earlier one that shares a particle with it.
+void holdBackWaitingLinks(SoftMesh& mesh, std::vector<DistanceLink>& links, const std::vector<char>& moved);
 
 /// Sets moved[i] (1) for each particle i that a link or volume of a cut mesh's rest moves (links and
 /// volumes of neither half): its contacts wait for the rest. Nothing for a mesh that is not cut.
