@@ -214,17 +214,26 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group],
                              soft.contactGroups_[group + 1]);
     };
-    for (DistanceLink& link : links) link.lambda = 0.0;
+    // One cut mesh and no self-collision pairs, on two threads: each half's sweeps overlap the rest
+    // of the sweep before (soft_sweeps.h), with the result of the loop below to the bit; each thread
+    // sets its half's multipliers to 0.
+    const bool overlapped = threads_ > 1 && cutMeshes == 1 && selfPairs.empty();
+    halfContacts.mesh = static_cast<std::size_t>(std::find_if(meshes.begin(), meshes.end(), cut) - meshes.begin());
+    std::size_t halvesBegin = links.size(), halvesEnd = links.size();
+    if (overlapped) {
+        const SoftMesh& mesh = meshes[halfContacts.mesh];
+        halvesBegin = mesh.firstLink;
+        halvesEnd = halvesBegin + mesh.firstHalfLinks + mesh.secondHalfLinks;
+    }
+    for (std::size_t k = 0; k < halvesBegin; ++k) links[k].lambda = 0.0;
+    for (std::size_t k = halvesEnd; k < links.size(); ++k) links[k].lambda = 0.0;
     for (TetVolume& volume : volumes) volume.lambda = 0.0;
     for (ParticleContact& c : contacts) {
         c.pushed = false;
         c.depth = 0.0;
         c.friction = Vec3::Zero();
     }
-    if (threads_ > 1 && cutMeshes == 1 && selfPairs.empty()) {
-        // One cut mesh and no self-collision pairs, on two threads: each half's sweeps overlap the
-        // rest of the sweep before (soft_sweeps.h), with the result of the loop below to the bit.
-        halfContacts.mesh = static_cast<std::size_t>(std::find_if(meshes.begin(), meshes.end(), cut) - meshes.begin());
+    if (overlapped) {
         const std::function<void()> sweepRest = [&halfContacts] {
             SoftBodies& soft = halfContacts.soft;
             for (const SoftMesh& mesh : soft.meshes) {

@@ -108,6 +108,11 @@ LinkRange waitingLinks(const SoftMesh& mesh, int half) {
     return {readyLinks(mesh, half).end, end};
 }
 void sweep(const HalfSweep& s, LinkRange range) { sweepLinkRange(s, range.begin, range.end); }
+// The half's multipliers to 0, by the thread that sweeps it, where its links then stay in the cache.
+void resetMultipliers(const HalfSweep& s, int half) {
+    const std::uint32_t end = waitingLinks(s.mesh, half).end;
+    for (std::uint32_t k = readyLinks(s.mesh, half).begin; k < end; ++k) s.links[k].lambda = 0.0;
+}
 
 // The second half's thread: sweep by sweep, its links that do not wait, then, once the sweep
 // before's rest is done, its waiting links and then(1).
@@ -116,6 +121,7 @@ void sweepSecondHalves(Overlap& o) {
     if (!o.secondSweeper.compare_exchange_strong(nobody, 1)) return;  // the caller sweeps them
     const HalfSweep& s = o.s;
     try {
+        resetMultipliers(s, 1);
         for (int k = 0; k < s.iterations; ++k) {
             sweep(s, readyLinks(s.mesh, 1));
             if (!waitFor(o.restDone, k, o.failed)) return;
@@ -134,13 +140,15 @@ void sweepSecondHalves(Overlap& o) {
 void sweepFirstHalvesAndRest(Overlap& o) {
     const HalfSweep& s = o.s;
     try {
+        resetMultipliers(s, 0);
         sweep(s, readyLinks(s.mesh, 0));
         for (int k = 0; k < s.iterations; ++k) {
             sweep(s, waitingLinks(s.mesh, 0));
             s.then(0);
             if (k + 1 < s.iterations) sweep(s, readyLinks(s.mesh, 0));
             int nobody = 0;
-            if (o.secondSweeper.load(std::memory_order_relaxed) == 2 || o.secondSweeper.compare_exchange_strong(nobody, 2)) {
+            if (o.secondSweeper.compare_exchange_strong(nobody, 2)) resetMultipliers(s, 1);
+            if (o.secondSweeper.load(std::memory_order_relaxed) == 2) {
                 sweep(s, readyLinks(s.mesh, 1));
                 sweep(s, waitingLinks(s.mesh, 1));
                 s.then(1);

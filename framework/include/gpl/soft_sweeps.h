@@ -73,7 +73,8 @@ void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::ve
 /// sweep's links that do not wait, and, once the second half's thread has swept its half and
 /// then(1), rest(); the second sweeps its links that do not wait and, once that rest is done, its
 /// waiting links and then(1). The second half goes to `second`, or is swept here in turn when that
-/// thread has not begun it by the end of this one's first half. One hand-over a step.
+/// thread has not begun it by the end of this one's first half. Each thread first sets its half's
+/// multipliers to 0, so that the half's links stay in its core's cache. One hand-over a step.
 void sweepOverlapped(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
                      const std::vector<double>& w, double h, int iterations, SecondThread& second,
                      const std::function<void(int)>& then, const std::function<void()>& rest);
