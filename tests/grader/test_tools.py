@@ -83,6 +83,84 @@ class RunLimited(unittest.TestCase):
         self.assertEqual((rc, out.strip(), why), (3, "hello", None))
 
 
+FAKE_COMPILER = """#!/usr/bin/python3
+# A compiler that answers as the source it is given asks: a located error, a g++ or Clang driver
+# whose compiler proper was killed, or an object. Each start is one line in the log.
+import pathlib, sys
+args = sys.argv[1:]
+with open(LOG, "a") as log:
+    log.write(" ".join(args) + "\\n")
+name = args[-1]
+text = pathlib.Path(name).read_text() if name.endswith(".cpp") else ""
+if "BROKEN" in text:
+    print(name + ":3:5: error: expected ';' before '}' token")
+    sys.exit(1)
+if "KILLED_GCC" in text:
+    print("g++: fatal error: Killed signal terminated program cc1plus")
+    print("compilation terminated.")
+    sys.exit(4)
+if "KILLED_CLANG" in text:
+    print("clang++: error: unable to execute command: Killed")
+    print("clang++: error: clang frontend command failed due to signal (use -v to see invocation)")
+    sys.exit(1)
+out = args[args.index("-MF") + 1] if "-MF" in args else args[args.index("-o") + 1]
+pathlib.Path(out).write_text("hook.o: " + name + "\\n" if "-M" in args else "\\t.text\\n")
+"""
+
+
+class CompileCache(unittest.TestCase):
+    """compile_hook keeps a file's compile errors for its next grading only where the compiler said
+    what is wrong at a line of it; a compiler ended by a signal (a limit of the moment) is asked
+    again, whichever compiler's wording says so."""
+
+    def setUp(self):
+        self.tmp = pathlib.Path(tempfile.mkdtemp(prefix="gpl-compile-cache-"))
+        self.addCleanup(lambda: subprocess.run(["rm", "-rf", str(self.tmp)]))
+        self.log = self.tmp / "log"
+        compiler = self.tmp / "fake-c++"
+        compiler.write_text(FAKE_COMPILER.replace("LOG", repr(str(self.log)), 1))
+        compiler.chmod(0o755)
+        (self.tmp / "include").mkdir()
+        self.trusted = mock.Mock(compiler=str(compiler), flags=[], include_dir=self.tmp / "include", pch=None)
+        self.trusted.key.return_value = "fake"
+        self.cache = self.tmp / "cache"
+        self.cache.mkdir()
+        for patched in (mock.patch.object(sandbox.Sandbox, "_probed", sandbox.Sandbox(None, "off for a test")),
+                        mock.patch.object(cgroups.Cgroups, "_probed", cgroups.Cgroups(None, None, None, "off"))):
+            patched.start()
+            self.addCleanup(patched.stop)
+
+    def compile_twice(self, text):
+        """The errors of two gradings of a hook file, and how often the compiler started for each."""
+        source = self.tmp / "src"
+        source.mkdir(exist_ok=True)
+        (source / "integrator.cpp").write_text(text)
+        results = []
+        for _ in range(2):
+            before = len(self.log.read_text().splitlines()) if self.log.exists() else 0
+            compiled = building.compile_hook(self.trusted, self.cache, source, "integrator.cpp", None)
+            results.append((compiled.errors, len(self.log.read_text().splitlines()) - before))
+        return results
+
+    def test_a_located_error_is_kept_and_a_killed_compiler_is_asked_again(self):
+        (first, starts), (second, again) = self.compile_twice("// BROKEN\n")
+        self.assertRegex(first, r"^integrator\.cpp:3:5: error: expected")
+        self.assertGreater(starts, 0)
+        self.assertEqual((second, again), (first, 0), "the same file's errors come from the cache")
+        for word in ("KILLED_GCC", "KILLED_CLANG"):
+            with self.subTest(compiler=word):
+                (first, starts), (second, again) = self.compile_twice(f"// {word}\n")
+                self.assertIn("Killed", first)
+                self.assertGreater(starts, 0)
+                self.assertEqual(second, first)
+                self.assertEqual(again, starts, "a compiler ended by a signal is asked again")
+
+    def test_a_file_that_compiles_is_kept_as_its_object(self):
+        (first, starts), (second, again) = self.compile_twice("// fine\n")
+        self.assertEqual((first, second), (None, None))
+        self.assertEqual((starts, again), (3, 0), "preprocess, compile and assemble once, then the cache")
+
+
 class Launcher(unittest.TestCase):
     """gpl-launch: the filter is in force before the program's first instruction (a static
     initializer included); every refused call raises SIGSYS with its tag; threads work; no program

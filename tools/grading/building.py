@@ -275,6 +275,10 @@ def _escapes(output_asm):
     return m.group(0).strip() if m else None
 
 
+# A compiler's message about a place in a file: "hook.cpp:12:5: error: ..." (g++ and Clang alike).
+LOCATED_ERROR = re.compile(r"^[^\s:][^:\n]*:\d+:\d+: (fatal )?error: ", re.M)
+
+
 def object_key(trusted, name, source):
     return hashlib.sha256(trusted.key().encode() + name.encode() + b"\0" + source).hexdigest()
 
@@ -308,7 +312,7 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
         (tmp / "src").mkdir()
         (tmp / "out").mkdir()
         (tmp / "src" / name).write_bytes(source)
-        errors = None
+        errors, refused = None, False  # refused: the grader's own verdict on the file's text
         if Sandbox.here().isolated:
             binds = {trusted.include_dir: INCLUDE, tmp / "src": SOURCES}
             if trusted.pch:
@@ -331,6 +335,7 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
                                                       for a in allowed)]
                 if outside:
                     rc, out = 1, f"{name}: error: includes {outside[0]}, which is not a hook file or a header of the framework"
+                    refused = True
                 else:
                     rc, out, why = _limited([trusted.compiler, *flags, "-S", "-o", str(tmp / "out" / "hook.s"), name],
                                             {}, {}, COMPILE_LIMITS, launcher, str(tmp / "src"))
@@ -338,6 +343,7 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
                 directive = _escapes((tmp / "out" / "hook.s").read_text(errors="replace"))
                 if directive:
                     rc, out = 1, f"{name}: error: the assembler directive '{directive}' reads a file, which a hook file may not"
+                    refused = True
                 else:
                     rc, out, why = _limited([trusted.compiler, *flags, "-c", "-o", str(tmp / "out" / "hook.o"),
                                              str(tmp / "out" / "hook.s")], {}, {}, COMPILE_LIMITS, launcher, str(tmp / "src"))
@@ -350,9 +356,12 @@ def compile_hook(trusted, cache, source_dir, name, launcher):
         elif rc != 0 or not (tmp / "out" / "hook.o").exists():
             errors = out.strip() or f"{name}: error: the compiler failed (status {rc})"
         if errors is not None:
-            # A limit, or the compiler ended by a signal (the kernel's CPU or memory limit), may have
-            # been the machine's load: tried again next time.
-            if not why and "signal terminated program" not in errors:
+            # Kept only as the compiler's verdict on the file: an error at a line of it (or of a
+            # header it includes), or the grader's refusal of its text. A limit, or a compiler ended
+            # by a signal (the kernel's CPU or memory limit: g++'s "signal terminated program",
+            # Clang's "unable to execute command"), says no line and may have been the machine's
+            # load: tried again next time.
+            if not why and (refused or LOCATED_ERROR.search(errors)):
                 _write_new(err, errors)
             return Compiled(None, errors)
         os.replace(tmp / "out" / "hook.o", obj)
