@@ -208,11 +208,12 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         int iterations;
         std::size_t mesh;
     } halfContacts{*this, bodies, h, iterations, 0};
-    const std::function<void(int)> pushHalfContacts = [&halfContacts](int half) {
+    // Part 0 or 1: the mesh's halves' contacts; 2: the rest's contacts in its second half.
+    const std::function<void(int)> pushHalfContacts = [&halfContacts](int part) {
         SoftBodies& soft = halfContacts.soft;
-        const std::size_t group = 2 * halfContacts.mesh + static_cast<std::size_t>(half);
-        soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group],
-                             soft.contactGroups_[group + 1]);
+        const std::size_t group = part < 2 ? 2 * halfContacts.mesh + static_cast<std::size_t>(part) : 2 * soft.meshes.size() + 1;
+        const std::size_t end = group + 1 < soft.contactGroups_.size() ? soft.contactGroups_[group + 1] : soft.contacts.size();
+        soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group], end);
     };
     // One cut mesh and no self-collision pairs, on two threads: each half's sweeps overlap the rest
     // of the sweep before (soft_sweeps.h), with the result of the loop below to the bit; each thread
@@ -241,7 +242,8 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
                 soft.sweepMesh(mesh, mesh.firstLink + (halves ? mesh.firstHalfLinks + mesh.secondHalfLinks : 0),
                                halfContacts.h, halfContacts.iterations);
             }
-            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_.back(), soft.contacts.size());
+            const std::size_t rest = 2 * soft.meshes.size();
+            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[rest], soft.contactGroups_[rest + 1]);
         };
         sweepOverlapped(meshes[halfContacts.mesh], links, p, w, h, iterations, second_, pushHalfContacts, sweepRest);
         catchMissedContacts(bodies);
@@ -264,7 +266,7 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         // Contacts last, so that no particle ends a sweep inside a body (on two threads, those of cut
         // meshes' halves went with their links).
         pushSelfPairs();
-        pushOutOfBodies(h, bodies, threads_ > 1 && cutMeshes > 0 ? contactGroups_.back() : 0, contacts.size());
+        pushOutOfBodies(h, bodies, threads_ > 1 && cutMeshes > 0 ? contactGroups_[2 * meshes.size()] : 0, contacts.size());
     }
     catchMissedContacts(bodies);
 }
@@ -350,19 +352,21 @@ Vec3 SoftBodies::pushedOut(const Body& body, const Vec3& q, double r) const {
 }
 
 void SoftBodies::groupContacts() {
-    // Each contact's group: 2 m + half for mesh m's halves, 2 M for the rest; then a counting sort.
+    // Each contact's group: 2 m + half for mesh m's halves, 2 M for the rest, 2 M + 1 for the rest's
+    // in the second half of a cut mesh; then a counting sort.
     for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 1;
     const std::size_t rest = 2 * meshes.size();
     const auto group = [this, rest](const ParticleContact& c) {
         const std::uint32_t i = c.particle;
         const SoftMesh& mesh = meshes[meshOf[i]];
-        if (mesh.firstHalfLinks == 0 || movedByRest_[i] || selfPaired_[i]) return rest;
-        return 2 * std::size_t{meshOf[i]} + (i < halvesCut(mesh) ? 0 : 1);
+        if (mesh.firstHalfLinks == 0 || selfPaired_[i]) return rest;
+        const std::size_t half = i < halvesCut(mesh) ? 0 : 1;
+        return movedByRest_[i] ? rest + half : 2 * std::size_t{meshOf[i]} + half;
     };
-    groupEnds_.assign(rest + 1, 0);
+    groupEnds_.assign(rest + 2, 0);
     for (const ParticleContact& c : contacts) ++groupEnds_[group(c)];
-    contactGroups_.assign(rest + 1, 0);
-    for (std::size_t g = 0; g < rest; ++g) contactGroups_[g + 1] = contactGroups_[g] + groupEnds_[g];
+    contactGroups_.assign(rest + 2, 0);
+    for (std::size_t g = 0; g < rest + 1; ++g) contactGroups_[g + 1] = contactGroups_[g] + groupEnds_[g];
     std::copy(contactGroups_.begin(), contactGroups_.end(), groupEnds_.begin());
     grouped_.resize(contacts.size());
     for (const ParticleContact& c : contacts) grouped_[groupEnds_[group(c)]++] = c;

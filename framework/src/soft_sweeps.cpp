@@ -115,7 +115,8 @@ void resetMultipliers(const HalfSweep& s, int half) {
 }
 
 // The second half's thread: sweep by sweep, its links that do not wait, then, once the sweep
-// before's rest is done, its waiting links and then(1).
+// before's rest is done, then(2) for it, its waiting links and then(1); at the end, then(2) for the
+// last sweep's rest.
 void sweepSecondHalves(Overlap& o) {
     int nobody = 0;
     if (!o.secondSweeper.compare_exchange_strong(nobody, 1)) return;  // the caller sweeps them
@@ -125,10 +126,13 @@ void sweepSecondHalves(Overlap& o) {
         for (int k = 0; k < s.iterations; ++k) {
             sweep(s, readyLinks(s.mesh, 1));
             if (!waitFor(o.restDone, k, o.failed)) return;
+            if (k > 0) s.then(2);
             sweep(s, waitingLinks(s.mesh, 1));
             s.then(1);
             o.secondDone.store(k + 1, std::memory_order_release);
         }
+        if (!waitFor(o.restDone, s.iterations, o.failed)) return;
+        s.then(2);
     } catch (...) {
         o.failed = true;
         throw;
@@ -136,7 +140,8 @@ void sweepSecondHalves(Overlap& o) {
 }
 
 // The caller: sweep by sweep, its half's waiting links and then(0), the next sweep's links that do
-// not wait, then (once the second half is done, or sweeping it here when no thread took it) the rest.
+// not wait, then (once the second half is done, or sweeping it here when no thread took it, with
+// then(2) as that thread would) the rest.
 void sweepFirstHalvesAndRest(Overlap& o) {
     const HalfSweep& s = o.s;
     try {
@@ -149,6 +154,7 @@ void sweepFirstHalvesAndRest(Overlap& o) {
             int nobody = 0;
             if (o.secondSweeper.compare_exchange_strong(nobody, 2)) resetMultipliers(s, 1);
             if (o.secondSweeper.load(std::memory_order_relaxed) == 2) {
+                if (k > 0) s.then(2);
                 sweep(s, readyLinks(s.mesh, 1));
                 sweep(s, waitingLinks(s.mesh, 1));
                 s.then(1);
@@ -158,6 +164,7 @@ void sweepFirstHalvesAndRest(Overlap& o) {
             o.rest();
             o.restDone.store(k + 1, std::memory_order_release);
         }
+        if (o.secondSweeper.load(std::memory_order_relaxed) == 2) s.then(2);
     } catch (...) {
         o.failed = true;
         throw;

@@ -289,7 +289,8 @@ private:
     std::vector<char> movedByRest_;
     std::vector<char> selfPaired_;  ///< per particle: in a self-collision pair this step (while grouping)
     /// This step's contact groups (soft_sweeps.h): mesh m's halves' contacts from contactGroups_[2 m]
-    /// and [2 m + 1] to the next group's start, the rest from contactGroups_[2 M] (M meshes) on.
+    /// and [2 m + 1] to the next group's start, the rest from contactGroups_[2 M] (M meshes) on, of
+    /// which those of cut meshes' second halves from contactGroups_[2 M + 1] on.
     std::vector<std::size_t> contactGroups_;
     std::vector<std::size_t> groupEnds_;    ///< each group's end while the contacts are grouped
     std::vector<ParticleContact> grouped_;  ///< the contacts while they are grouped

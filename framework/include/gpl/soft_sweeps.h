@@ -45,8 +45,8 @@ struct HalvesOrder {
 HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cut, std::size_t particles);
 
 /// SoftBodies::project() also groups the step's contacts: for each cut mesh in turn, those of its first
-/// half's particles that may go with the half's links, then its second half's; then the rest, each
-/// group in the order found. A particle's contacts may go with its half's links when nothing else
+/// half's particles that may go with the half's links, then its second half's; then the rest: first
+/// those not in a cut mesh's second half, then those in one, each group in the order found. A particle's contacts may go with its half's links when nothing else
 /// of the sweep moves the particle after them: no link or volume of the rest (a cut mesh's volumes
 /// are all of the rest), and no self-collision pair this step. A contact moves its own particle
 /// only, so contacts of different particles give the same result in any order, and a particle's
@@ -71,8 +71,9 @@ void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::ve
 /// before but their own half, so they are swept while the rest of the sweep before is. The first
 /// half's thread (this one) sweeps, in each sweep, its half's waiting links and then(0), the next
 /// sweep's links that do not wait, and, once the second half's thread has swept its half and
-/// then(1), rest(); the second sweeps its links that do not wait and, once that rest is done, its
-/// waiting links and then(1). The second half goes to `second`, or is swept here in turn when that
+/// then(1), rest(); the second sweeps its links that do not wait and, once that rest is done,
+/// then(2) (the caller pushes out the rest's contacts in the second half there, which rest() leaves),
+/// its waiting links and then(1). The second half goes to `second`, or is swept here in turn when that
 /// thread has not begun it by the end of this one's first half. Each thread first sets its half's
 /// multipliers to 0, so that the half's links stay in its core's cache. One hand-over a step.
 void sweepOverlapped(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
