@@ -74,8 +74,8 @@ void sweepHalf(const HalfSweep& s, int half) {
 struct Overlap {
     const HalfSweep& s;
     const std::function<void()>& rest;
-    std::atomic<int> secondSweeper{0};  ///< who sweeps the second half: 0 nobody yet, 1 the second thread, 2 the caller
-    std::atomic<int> secondDone{0};     ///< sweeps whose second half (links and then(1)) is done
+    std::atomic<int> secondTaken{0};  ///< the second half's parts taken so far, by either thread
+    std::atomic<int> secondDone{0};   ///< the second half's parts done
     std::atomic<int> restDone{0};       ///< sweeps whose rest is done
     std::atomic<bool> failed{false};    ///< a thread threw: the other stops waiting for it
 };
@@ -114,25 +114,35 @@ void resetMultipliers(const HalfSweep& s, int half) {
     for (std::uint32_t k = readyLinks(s.mesh, half).begin; k < end; ++k) s.links[k].lambda = 0.0;
 }
 
-// The second half's thread: sweep by sweep, its links that do not wait, then, once the sweep
-// before's rest is done, then(2) for it, its waiting links and then(1); at the end, then(2) for the
-// last sweep's rest.
-void sweepSecondHalves(Overlap& o) {
-    int nobody = 0;
-    if (!o.secondSweeper.compare_exchange_strong(nobody, 1)) return;  // the caller sweeps them
+// Part k of the second half, on the thread that took it: in sweep k, its links that do not wait,
+// then, once the rest of sweep k - 1 is done, then(2) for that rest, its waiting links and then(1);
+// part `iterations` is then(2) for the last sweep's rest. The thread that takes a part waits for the
+// part before, which the other thread may have taken.
+bool sweepSecondHalfPart(Overlap& o, int k) {
     const HalfSweep& s = o.s;
+    if (!waitFor(o.secondDone, k, o.failed)) return false;
+    if (k == 0) resetMultipliers(s, 1);
+    if (k < s.iterations) sweep(s, readyLinks(s.mesh, 1));
+    if (!waitFor(o.restDone, k, o.failed)) return false;
+    if (k > 0) s.then(2);
+    if (k < s.iterations) {
+        sweep(s, waitingLinks(s.mesh, 1));
+        s.then(1);
+    }
+    o.secondDone.store(k + 1, std::memory_order_release);
+    return true;
+}
+
+// The second thread: the second half's parts that the caller has not taken, in order, from the first
+// it finds untaken.
+void sweepSecondHalves(Overlap& o) {
     try {
-        resetMultipliers(s, 1);
-        for (int k = 0; k < s.iterations; ++k) {
-            sweep(s, readyLinks(s.mesh, 1));
-            if (!waitFor(o.restDone, k, o.failed)) return;
-            if (k > 0) s.then(2);
-            sweep(s, waitingLinks(s.mesh, 1));
-            s.then(1);
-            o.secondDone.store(k + 1, std::memory_order_release);
+        int k = o.secondTaken.load(std::memory_order_relaxed);
+        while (k <= o.s.iterations) {
+            if (!o.secondTaken.compare_exchange_weak(k, k + 1)) continue;  // k is now the count taken
+            if (!sweepSecondHalfPart(o, k)) return;
+            ++k;
         }
-        if (!waitFor(o.restDone, s.iterations, o.failed)) return;
-        s.then(2);
     } catch (...) {
         o.failed = true;
         throw;
@@ -140,10 +150,16 @@ void sweepSecondHalves(Overlap& o) {
 }
 
 // The caller: sweep by sweep, its half's waiting links and then(0), the next sweep's links that do
-// not wait, then (once the second half is done, or sweeping it here when no thread took it, with
-// then(2) as that thread would) the rest.
+// not wait, then (once the second half's part of the sweep is done, or doing it here when the second
+// thread has not taken it) the rest.
 void sweepFirstHalvesAndRest(Overlap& o) {
     const HalfSweep& s = o.s;
+    // Takes part k of the second half if the second thread has not, and returns once it is done.
+    const auto secondHalfPart = [&o](int k) {
+        int untaken = k;
+        if (o.secondTaken.compare_exchange_strong(untaken, k + 1)) return sweepSecondHalfPart(o, k);
+        return waitFor(o.secondDone, k + 1, o.failed);
+    };
     try {
         resetMultipliers(s, 0);
         sweep(s, readyLinks(s.mesh, 0));
@@ -151,20 +167,11 @@ void sweepFirstHalvesAndRest(Overlap& o) {
             sweep(s, waitingLinks(s.mesh, 0));
             s.then(0);
             if (k + 1 < s.iterations) sweep(s, readyLinks(s.mesh, 0));
-            int nobody = 0;
-            if (o.secondSweeper.compare_exchange_strong(nobody, 2)) resetMultipliers(s, 1);
-            if (o.secondSweeper.load(std::memory_order_relaxed) == 2) {
-                if (k > 0) s.then(2);
-                sweep(s, readyLinks(s.mesh, 1));
-                sweep(s, waitingLinks(s.mesh, 1));
-                s.then(1);
-            } else if (!waitFor(o.secondDone, k + 1, o.failed)) {
-                return;
-            }
+            if (!secondHalfPart(k)) return;
             o.rest();
             o.restDone.store(k + 1, std::memory_order_release);
         }
-        if (o.secondSweeper.load(std::memory_order_relaxed) == 2) s.then(2);
+        secondHalfPart(s.iterations);
     } catch (...) {
         o.failed = true;
         throw;

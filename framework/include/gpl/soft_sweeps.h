@@ -73,9 +73,10 @@ void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::ve
 /// sweep's links that do not wait, and, once the second half's thread has swept its half and
 /// then(1), rest(); the second sweeps its links that do not wait and, once that rest is done,
 /// then(2) (the caller pushes out the rest's contacts in the second half there, which rest() leaves),
-/// its waiting links and then(1). The second half goes to `second`, or is swept here in turn when that
-/// thread has not begun it by the end of this one's first half. Each thread first sets its half's
-/// multipliers to 0, so that the half's links stay in its core's cache. One hand-over a step.
+/// its waiting links and then(1). The second half's part of each sweep goes to `second`, or is swept
+/// here in turn when that thread has not taken it by the time the rest needs it (a thread without a
+/// core joins late, or not at all). The thread that sweeps a half first sets its multipliers to 0, so
+/// that its links stay in that core's cache. One hand-over a step.
 void sweepOverlapped(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::vector<Vec3>& p,
                      const std::vector<double>& w, double h, int iterations, SecondThread& second,
                      const std::function<void(int)>& then, const std::function<void()>& rest);
