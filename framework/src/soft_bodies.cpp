@@ -211,8 +211,10 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
     // Part 0 or 1: the mesh's halves' contacts; 2: the rest's contacts in its second half.
     const std::function<void(int)> pushHalfContacts = [&halfContacts](int part) {
         SoftBodies& soft = halfContacts.soft;
-        const std::size_t group = part < 2 ? 2 * halfContacts.mesh + static_cast<std::size_t>(part) : 2 * soft.meshes.size() + 1;
-        const std::size_t end = group + 1 < soft.contactGroups_.size() ? soft.contactGroups_[group + 1] : soft.contacts.size();
+        const std::size_t group =
+            part < 2 ? 2 * halfContacts.mesh + static_cast<std::size_t>(part) : 2 * soft.meshes.size() + 1;
+        const std::size_t end =
+            group + 1 < soft.contactGroups_.size() ? soft.contactGroups_[group + 1] : soft.contacts.size();
         soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group], end);
     };
     // One cut mesh and no self-collision pairs, on two threads: each half's sweeps overlap the rest
@@ -243,7 +245,8 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
                                halfContacts.h, halfContacts.iterations);
             }
             const std::size_t rest = 2 * soft.meshes.size();
-            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[rest], soft.contactGroups_[rest + 1]);
+            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[rest],
+                                 soft.contactGroups_[rest + 1]);
         };
         sweepOverlapped(meshes[halfContacts.mesh], links, p, w, h, iterations, second_, pushHalfContacts, sweepRest);
         catchMissedContacts(bodies);
@@ -266,7 +269,8 @@ void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodi
         // Contacts last, so that no particle ends a sweep inside a body (on two threads, those of cut
         // meshes' halves went with their links).
         pushSelfPairs();
-        pushOutOfBodies(h, bodies, threads_ > 1 && cutMeshes > 0 ? contactGroups_[2 * meshes.size()] : 0, contacts.size());
+        const std::size_t firstContact = threads_ > 1 && cutMeshes > 0 ? contactGroups_[2 * meshes.size()] : 0;
+        pushOutOfBodies(h, bodies, firstContact, contacts.size());
     }
     catchMissedContacts(bodies);
 }

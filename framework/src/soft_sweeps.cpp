@@ -74,10 +74,12 @@ void sweepHalf(const HalfSweep& s, int half) {
 struct Overlap {
     const HalfSweep& s;
     const std::function<void()>& rest;
+    std::atomic<int> firstDone{0};    ///< sweeps whose first half (links and then(0)) is done
     std::atomic<int> secondTaken{0};  ///< the second half's parts taken so far, by either thread
     std::atomic<int> secondDone{0};   ///< the second half's parts done
-    std::atomic<int> restDone{0};       ///< sweeps whose rest is done
-    std::atomic<bool> failed{false};    ///< a thread threw: the other stops waiting for it
+    std::atomic<int> restTaken{0};    ///< sweeps whose rest a thread has taken
+    std::atomic<int> restDone{0};     ///< sweeps whose rest is done
+    std::atomic<bool> failed{false};  ///< a thread threw: the other stops waiting for it
 };
 
 // Spins until count reaches target (true), or until a thread failed (false). Every few microseconds
@@ -114,15 +116,25 @@ void resetMultipliers(const HalfSweep& s, int half) {
     for (std::uint32_t k = readyLinks(s.mesh, half).begin; k < end; ++k) s.links[k].lambda = 0.0;
 }
 
-// Part k of the second half, on the thread that took it: in sweep k, its links that do not wait,
-// then, once the rest of sweep k - 1 is done, then(2) for that rest, its waiting links and then(1);
-// part `iterations` is then(2) for the last sweep's rest. The thread that takes a part waits for the
-// part before, which the other thread may have taken.
+// The rest of sweep k, once both its halves are done, unless the other thread has taken it.
+void sweepRest(Overlap& o, int k) {
+    int untaken = k;
+    if (!o.restTaken.compare_exchange_strong(untaken, k + 1)) return;
+    o.rest();
+    o.restDone.store(k + 1, std::memory_order_release);
+}
+
+// Part k of the second half, on the thread that took it: in sweep k, its links that do not wait;
+// the rest of sweep k - 1 if the first half of that sweep is done and nobody has taken it (the first
+// half's thread is behind: on a core another program shares); then, once that rest is done, then(2)
+// for it, its waiting links and then(1). Part `iterations` is then(2) for the last sweep's rest. The
+// thread that takes a part waits for the part before, which the other thread may have taken.
 bool sweepSecondHalfPart(Overlap& o, int k) {
     const HalfSweep& s = o.s;
     if (!waitFor(o.secondDone, k, o.failed)) return false;
     if (k == 0) resetMultipliers(s, 1);
     if (k < s.iterations) sweep(s, readyLinks(s.mesh, 1));
+    if (k > 0 && o.firstDone.load(std::memory_order_acquire) >= k) sweepRest(o, k - 1);
     if (!waitFor(o.restDone, k, o.failed)) return false;
     if (k > 0) s.then(2);
     if (k < s.iterations) {
@@ -149,9 +161,10 @@ void sweepSecondHalves(Overlap& o) {
     }
 }
 
-// The caller: sweep by sweep, its half's waiting links and then(0), the next sweep's links that do
-// not wait, then (once the second half's part of the sweep is done, or doing it here when the second
-// thread has not taken it) the rest.
+// The caller: sweep by sweep, once the rest of the sweep before is done, its half's waiting links and
+// then(0), the next sweep's links that do not wait, then (once the second half's part of the sweep is
+// done, or doing it here when the second thread has not taken it) the rest, unless the second thread
+// has taken it.
 void sweepFirstHalvesAndRest(Overlap& o) {
     const HalfSweep& s = o.s;
     // Takes part k of the second half if the second thread has not, and returns once it is done.
@@ -164,12 +177,13 @@ void sweepFirstHalvesAndRest(Overlap& o) {
         resetMultipliers(s, 0);
         sweep(s, readyLinks(s.mesh, 0));
         for (int k = 0; k < s.iterations; ++k) {
+            if (!waitFor(o.restDone, k, o.failed)) return;
             sweep(s, waitingLinks(s.mesh, 0));
             s.then(0);
+            o.firstDone.store(k + 1, std::memory_order_release);
             if (k + 1 < s.iterations) sweep(s, readyLinks(s.mesh, 0));
             if (!secondHalfPart(k)) return;
-            o.rest();
-            o.restDone.store(k + 1, std::memory_order_release);
+            sweepRest(o, k);
         }
         secondHalfPart(s.iterations);
     } catch (...) {

@@ -46,12 +46,13 @@ HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cu
 
 /// SoftBodies::project() also groups the step's contacts: for each cut mesh in turn, those of its first
 /// half's particles that may go with the half's links, then its second half's; then the rest: first
-/// those not in a cut mesh's second half, then those in one, each group in the order found. A particle's contacts may go with its half's links when nothing else
-/// of the sweep moves the particle after them: no link or volume of the rest (a cut mesh's volumes
-/// are all of the rest), and no self-collision pair this step. A contact moves its own particle
-/// only, so contacts of different particles give the same result in any order, and a particle's
-/// contacts keep theirs: pushed out right after their half's links, on that half's thread, they give
-/// the result of the plain loop (every link, the self-collision pairs, then every contact) to the bit.
+/// those not in a cut mesh's second half, then those in one, each group in the order found. A
+/// particle's contacts may go with its half's links when nothing else of the sweep moves the particle
+/// after them: no link or volume of the rest (a cut mesh's volumes are all of the rest), and no
+/// self-collision pair this step. A contact moves its own particle only, so contacts of different
+/// particles give the same result in any order, and a particle's contacts keep theirs: pushed out
+/// right after their half's links, on that half's thread, they give the result of the plain loop
+/// (every link, the self-collision pairs, then every contact) to the bit.
 ///
 /// One sweep of a cut mesh's halves (mesh.firstHalfLinks > 0), as the plain loop of
 /// SoftBodies::project() sweeps their links for the mesh's method (XPBD: solveDistanceConstraint()
@@ -73,7 +74,9 @@ void sweepHalves(const SoftMesh& mesh, std::vector<DistanceLink>& links, std::ve
 /// sweep's links that do not wait, and, once the second half's thread has swept its half and
 /// then(1), rest(); the second sweeps its links that do not wait and, once that rest is done,
 /// then(2) (the caller pushes out the rest's contacts in the second half there, which rest() leaves),
-/// its waiting links and then(1). The second half's part of each sweep goes to `second`, or is swept
+/// its waiting links and then(1). Where the second finds both halves of the sweep before done and
+/// their rest not yet taken (the first is behind, on a core another program shares), it sweeps that
+/// rest itself. The second half's part of each sweep goes to `second`, or is swept
 /// here in turn when that thread has not taken it by the time the rest needs it (a thread without a
 /// core joins late, or not at all). The thread that sweeps a half first sets its multipliers to 0, so
 /// that its links stay in that core's cache. One hand-over a step.
