@@ -28,7 +28,13 @@ Vec3 densityCorrection([[maybe_unused]] const Vec3& x, [[maybe_unused]] double l
     const double Wdq = tensile.k > 0.0 ? poly6Kernel(tensile.dq, h) : 1.0;
     for (const FluidNeighbour& j : neighbours) {
         const Vec3 r = x - j.x;
-        const double sCorr = tensile.k > 0.0 ? -tensile.k * std::pow(poly6Kernel(r.norm(), h) / Wdq, tensile.n) : 0.0;
+        double sCorr = 0.0;  // -k (W / W(dq))^n; n is a small whole number: n products, not std::pow
+        if (tensile.k > 0.0) {
+            const double ratio = poly6Kernel(r.norm(), h) / Wdq;
+            double power = 1.0;
+            for (int e = 0; e < tensile.n; ++e) power *= ratio;
+            sCorr = -tensile.k * power;
+        }
         dp += (lambda + j.lambda + sCorr) * spikyGradient(r, h);
     }
     dp *= mass / restDensity;
