@@ -402,14 +402,24 @@ TEST(SoftBodies, HalvesOrderGivesTheSweepOrdersResultWithHalvesThatShareNoPartic
     EXPECT_EQ(std::memcmp(expected.data(), got.data(), expected.size() * sizeof(Vec3)), 0);
 }
 
+namespace {
+
+/// Soft bodies that hold one cloth of n x n particles, as ClothSpec builds it by default.
+SoftBodies squareCloth(int n) {
+    SoftBodies soft;
+    ClothSpec c;
+    c.nx = c.ny = n;
+    soft.addCloth(c);
+    return soft;
+}
+
+}  // namespace
+
 TEST(SoftBodies, LargeClothIsCutInHalvesOfNearlyEqualWork) {
     // Built from both edges towards the middle row, the two halves wait alike for the links across
     // it: each holds close to half of the links (a thread's share), the rest a few per cent.
     for (const int n : {40, 64, 128}) {
-        SoftBodies soft;
-        ClothSpec c;
-        c.nx = c.ny = n;
-        soft.addCloth(c);
+        const SoftBodies soft = squareCloth(n);
         const SoftMesh& mesh = soft.meshes[0];
         const double links = mesh.linkCount;
         EXPECT_GT(mesh.firstHalfLinks / links, 0.45) << n;
@@ -429,10 +439,7 @@ TEST(SoftBodies, LargeClothsHalvesHoldBackTheLinksThatWaitForTheRest) {
     // moves: on two threads they are swept while the rest of the sweep before is. The waiting ones
     // are few.
     for (const int n : {40, 64, 128}) {
-        SoftBodies soft;
-        ClothSpec c;
-        c.nx = c.ny = n;
-        soft.addCloth(c);
+        const SoftBodies soft = squareCloth(n);
         const SoftMesh& mesh = soft.meshes[0];
         std::vector<char> movedByRest(soft.x.size(), 0);
         for (std::uint32_t k = mesh.firstLink + mesh.firstHalfLinks + mesh.secondHalfLinks;
