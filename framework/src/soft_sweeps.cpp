@@ -62,10 +62,22 @@ void sweepLinkRange(const HalfSweep& s, std::uint32_t begin, std::uint32_t end) 
     }
 }
 
+// A range of a mesh's links [begin, end).
+struct LinkRange {
+    std::uint32_t begin, end;
+};
+
+// Half 0 or 1 of a cut mesh's links, as they are stored: the first half's from firstLink on, then the
+// second half's.
+LinkRange halfLinks(const SoftMesh& mesh, int half) {
+    const std::uint32_t begin = mesh.firstLink + (half == 0 ? 0 : mesh.firstHalfLinks);
+    return {begin, begin + (half == 0 ? mesh.firstHalfLinks : mesh.secondHalfLinks)};
+}
+
 // Half 0 or 1 of the mesh's links, then what the caller does after it.
 void sweepHalf(const HalfSweep& s, int half) {
-    const std::uint32_t begin = s.mesh.firstLink + (half == 0 ? 0 : s.mesh.firstHalfLinks);
-    sweepLinkRange(s, begin, begin + (half == 0 ? s.mesh.firstHalfLinks : s.mesh.secondHalfLinks));
+    const LinkRange links = halfLinks(s.mesh, half);
+    sweepLinkRange(s, links.begin, links.end);
     s.then(half);
 }
 
@@ -95,19 +107,13 @@ bool waitFor(const std::atomic<int>& count, int target, const std::atomic<bool>&
     }
 }
 
-// A half's links [begin, end): those that do not wait for the rest, or those that do.
-struct LinkRange {
-    std::uint32_t begin, end;
-};
+// A half's links that do not wait for the rest (stored first), and those that do (stored last).
 LinkRange readyLinks(const SoftMesh& mesh, int half) {
-    const std::uint32_t begin = mesh.firstLink + (half == 0 ? 0 : mesh.firstHalfLinks);
-    const std::uint32_t count = half == 0 ? mesh.firstHalfLinks : mesh.secondHalfLinks;
-    const std::uint32_t waiting = half == 0 ? mesh.firstHalfWaiting : mesh.secondHalfWaiting;
-    return {begin, begin + count - waiting};
+    const LinkRange all = halfLinks(mesh, half);
+    return {all.begin, all.end - (half == 0 ? mesh.firstHalfWaiting : mesh.secondHalfWaiting)};
 }
 LinkRange waitingLinks(const SoftMesh& mesh, int half) {
-    const std::uint32_t end = mesh.firstLink + mesh.firstHalfLinks + (half == 0 ? 0 : mesh.secondHalfLinks);
-    return {readyLinks(mesh, half).end, end};
+    return {readyLinks(mesh, half).end, halfLinks(mesh, half).end};
 }
 void sweep(const HalfSweep& s, LinkRange range) { sweepLinkRange(s, range.begin, range.end); }
 // The half's multipliers to 0, by the thread that sweeps it, where its links then stay in the cache.
@@ -245,8 +251,7 @@ void holdBackWaitingLinks(SoftMesh& mesh, std::vector<DistanceLink>& links, cons
     std::vector<char> waits(moved);  // per particle: the rest or a waiting link moves it
     std::vector<DistanceLink> ready, waiting;
     for (int half = 0; half < 2; ++half) {
-        const std::uint32_t begin = mesh.firstLink + (half == 0 ? 0 : mesh.firstHalfLinks);
-        const std::uint32_t end = begin + (half == 0 ? mesh.firstHalfLinks : mesh.secondHalfLinks);
+        const auto [begin, end] = halfLinks(mesh, half);
         ready.clear();
         waiting.clear();
         for (std::uint32_t k = begin; k < end; ++k) {
