@@ -22,6 +22,9 @@ import headless  # noqa: E402  (the virtual displays the viewer runs on)
 WORKERS = 2
 VIEWER = os.environ.get("GPL_VIEWER_SOLUTIONS")
 RUNNER = os.environ.get("GPL_RUN_SOLUTIONS")
+# Lists each scene's viewSeconds (tests/viewer/view_seconds.cpp): each scene's script is written
+# before its viewer starts, so that each scene starts the viewer once.
+VIEW_SECONDS = os.environ.get("GPL_VIEW_SECONDS")
 # Libraries to preload into the viewer in a sanitizer build (tests/CMakeLists.txt says why).
 PRELOAD = ["env", f"LD_PRELOAD={os.environ['GPL_VIEWER_PRELOAD']}"] if os.environ.get("GPL_VIEWER_PRELOAD") else []
 # The viewer runs at speed 6 (the panel's slider): each frame it draws is 0.1 s of simulated time, so
@@ -45,21 +48,23 @@ def course_scenes():
     return [(key, name) for key, name, _ in rows if key not in ("F11", "F12")]
 
 
-def track(scene, displays):
-    """The view reports of one scene over its viewSeconds, one every 0.1 s, on a display taken from
-    the queue displays (and given back)."""
+def view_seconds():
+    """{name: viewSeconds} of every scene."""
+    listed = subprocess.run([VIEW_SECONDS], capture_output=True, text=True, check=True).stdout
+    return {name: float(seconds) for _, name, seconds in (line.split("\t") for line in listed.splitlines())}
+
+
+def track(scene, seconds, displays):
+    """The view reports of one scene over its viewSeconds (seconds), one every 0.1 s, on a display
+    taken from the queue displays (and given back)."""
     display = displays.get()
     try:
-        return track_on(display, scene)
+        return track_on(display, scene, seconds)
     finally:
         displays.put(display)
 
 
-def track_on(display, scene):
-    _, first, out = viewer(display, scene, "--ghost", "--script", "dump; quit")
-    if not first:
-        return scene, None, out
-    seconds = first[0]["view"]["seconds"]
+def track_on(display, scene, seconds):
     dumps = int(round(seconds / DUMP_SECONDS))
     # "wait 0" lets the frame it is read in pass: one frame, 0.1 s, between reports.
     script = f"set speed {SPEED}; dump; " + "wait 0; dump; " * dumps + "quit"
@@ -67,17 +72,20 @@ def track_on(display, scene):
     return scene, (code, states), out
 
 
-@unittest.skipUnless(VIEWER and RUNNER, "GPL_VIEWER_SOLUTIONS and GPL_RUN_SOLUTIONS name the programs")
+@unittest.skipUnless(VIEWER and RUNNER and VIEW_SECONDS,
+                     "GPL_VIEWER_SOLUTIONS, GPL_RUN_SOLUTIONS and GPL_VIEW_SECONDS name the programs")
 class ViewHints(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.scenes = course_scenes()
+        cls.seconds = view_seconds()
         with contextlib.ExitStack() as stack, ThreadPoolExecutor(max_workers=WORKERS) as pool:
             displays = queue.Queue()
             for _ in range(WORKERS):
                 displays.put(stack.enter_context(headless.Display()))
             names = [n for _, n in cls.scenes]
-            cls.tracks = {name: result for name, *result in pool.map(track, names, [displays] * len(names))}
+            seconds = [cls.seconds.get(n, 0.0) for n in names]
+            cls.tracks = {name: result for name, *result in pool.map(track, names, seconds, [displays] * len(names))}
 
     def test_there_are_course_scenes(self):
         self.assertGreaterEqual(len(self.scenes), 16)
@@ -90,7 +98,10 @@ class ViewHints(unittest.TestCase):
                 self.assertIsNotNone(result, out)
                 code, states = result
                 self.assertEqual(code, 0, out)
+                self.assertTrue(states, out)
                 seconds = states[0]["view"]["seconds"]
+                # The script was written for the seconds the viewer shows the scene for.
+                self.assertEqual(seconds, self.seconds.get(name), "gpl-view-seconds and the viewer disagree")
                 self.assertGreater(seconds, 0.5)
                 # The last report lies within one frame's step of viewSeconds.
                 self.assertAlmostEqual(states[-1]["time"], seconds, delta=0.1 + 1e-9)
