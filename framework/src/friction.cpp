@@ -27,7 +27,9 @@
 //      (where friction, which acts on velocities, does not hold it),
 //   7. keeps the sums, sorted by pair, for the next step.
 // The number of sweeps is fixed: a resting stack converges a little more every step through the
-// warm start, so no sweep checks whether it is done.
+// warm start, so no sweep checks whether it is done. A large stage on two threads also runs its
+// loops over the contacts or the bodies in two halves (inHalves()), and its split impulses in the
+// sweeps' halves: the same result as on one thread.
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -161,7 +163,10 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     // thread finds cheaper now: the stage is timed from here to its end (second_thread.h).
     const bool large = solver == ContactSolver::SequentialImpulses && sums_.size() >= ContactSweeps::kSplitFrom;
     const SecondThread::Stage timed(large ? second : nullptr, sums_.size());
-    keepPoints(bodies, contacts);
+    // The loops below that visit each contact or body once touch different data at each: a large
+    // stage runs them in two halves (inHalves(), second_thread.h).
+    SecondThread* const twoThreads = timed.second();  // null: this run of the stage is on one thread
+    keepPoints(bodies, contacts, twoThreads);
     // 1. Each body's velocities now and its world inverse inertia, once.
     before_.resize(bodies.size());
     invI_.resize(bodies.size());
@@ -176,13 +181,13 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     // Each point's overlap now, along the normal through it (the contact's depth where that line
     // misses a body).
     depths_.resize(first_.back());
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
+    inHalves(twoThreads, contacts.size(), [&](std::size_t c) {
         const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
             const double d = depthAlong(bodies[con.a], bodies[con.b], con.points[k], con.normal, kKeepGap);
             depths_[first_[c] + k] = std::isnan(d) ? con.depth : d;
         }
-    }
+    });
 
     if (solver == ContactSolver::SoftStep) {
         for (std::size_t c = 0; c < contacts.size(); ++c) {
@@ -193,6 +198,7 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
         return;
     }
 
+    const Halves* cut = nullptr;  // a large stage's halves, which the position correction sweeps too
     // 2-4. Approaches, warm starts and the sweeps: a small stage in the plain loop below, a large
     // one in two halves (ContactSweeps, the same result to the bit); or the baseline's.
     if (solver == ContactSolver::Baumgarte) {
@@ -205,30 +211,31 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     } else {
         const ContactSweeps::Start begin = [this, &contacts](std::size_t c, const Body& a, const Body& b,
                                                              PointImpulse* sums) { start(contacts, c, a, b, sums); };
-        sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, timed.second(), &begin);
+        sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, twoThreads, &begin);
+        cut = &sweeps_.halves();
     }
 
     // Each point's overlap at the end of the step: its overlap now, less what the change of its
     // normal velocity in the stage moves it apart in h (for the position pass, which the baseline has not).
-    for (std::size_t c = 0; solver != ContactSolver::Baumgarte && c < contacts.size(); ++c) {
+    inHalves(twoThreads, solver != ContactSolver::Baumgarte ? contacts.size() : 0, [&](std::size_t c) {
         const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
             const double now = normalVelocityAt(con, bodies[con.a], bodies[con.b], con.points[k]);
             depths_[first_[c] + k] -= h * (now - sums_[first_[c] + k].approach);
         }
-    }
+    });
 
     // 5. The step's positions and orientations follow the velocities after the impulses.
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
+    inHalves(twoThreads, bodies.size(), [&](std::size_t i) {
         Body& b = bodies[i];
-        if (b.isStatic()) continue;
+        if (b.isStatic()) return;
         b.position += h * (b.velocity - before_[i].first);
         const Vec3 turn = h * (b.angularVelocity - before_[i].second);  // rad, world frame
         if (!turn.isZero(0.0)) {
             const double angle = turn.norm();
             b.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * b.orientation).normalized();
         }
-    }
+    });
 
     // 6. Overlap left beyond the slop: split impulses, in positions only (the baseline's bias has
     // answered it in the velocities).
@@ -236,21 +243,22 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
         keep(contacts, bodies);
         return;
     }
-    split_.clear();
-    for (std::size_t c = 0; c < contacts.size(); ++c) {
+    split_.resize(first_.back());
+    inHalves(twoThreads, contacts.size(), [&](std::size_t c) {
         const Contact& con = contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
-            split_.add(con.a, con.b, con.points[k], con.normal, depths_[first_[c] + k], bodies, invI_[con.a],
-                       invI_[con.b]);
+            const std::size_t i = first_[c] + k;
+            split_.set(i, con.a, con.b, con.points[k], con.normal, depths_[i], bodies, invI_[con.a], invI_[con.b]);
         }
-    }
-    split_.run(bodies, invI_, kContactSlop, h, positionSweeps);
+    });
+    split_.run(bodies, invI_, kContactSlop, h, positionSweeps, cut, twoThreads);
 
     // 7.
-    keep(contacts, bodies);
+    keep(contacts, bodies, twoThreads);
 }
 
-void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts) {
+void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts,
+                               SecondThread* twoThreads) {
     remembered_.assign(contacts.size(), nullptr);
     flipped_.assign(contacts.size(), 0);
     paired_.assign(contacts.size(), 0);
@@ -287,15 +295,14 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
         return p;
     };
     const std::size_t found = contacts.size();
-    for (std::size_t c = 0; c < found; ++c) {
+    inHalves(twoThreads, found, [&](std::size_t c) {
         Contact& con = contacts[c];
         bool flipped = false;
         const ContactMemory::Entry* old = memory_.find(con.a, con.b, flipped);
         remembered_[c] = old;
         flipped_[c] = flipped;
-        if (old == nullptr) continue;
-        old->found = true;
-        if (con.pointCount >= kMaxContactPoints) continue;  // no room for a point kept
+        if (old == nullptr) return;
+        if (con.pointCount >= kMaxContactPoints) return;  // no room for a point kept
         // Last step's points that no point of this step continues.
         std::array<bool, kMaxContactPoints> continued{};
         const ContactMemory::Pairing pairing = memory_.pairUp(*old, flipped, con, bodies[con.a], bodies[con.b]);
@@ -313,6 +320,9 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
             pairings_[c] = pairing;
             paired_[c] = 1;
         }
+    });
+    for (std::size_t c = 0; c < found; ++c) {
+        if (remembered_[c] != nullptr) remembered_[c]->found = true;
     }
     // Pairs whose contact the kernels no longer report: their points that still touch.
     for (const ContactMemory::Entry& e : memory_.entries) {
@@ -385,7 +395,8 @@ void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>&
     }
 }
 
-void FrictionStage::keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies) {
+void FrictionStage::keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies,
+                         SecondThread* twoThreads) {
     // Sorted by pair (a pair that detection found twice keeps its contacts in their order; the
     // first is the one warm starts find). The indices are sorted, not the contacts.
     ContactMemory& memory = memory_;
@@ -408,16 +419,21 @@ void FrictionStage::keep(const std::vector<Contact>& contacts, const std::vector
         e.restitution = con.restitution;
         e.friction = con.friction;
         e.staticFriction = con.staticFriction;
+        next += e.pointCount;
+    }
+    inHalves(twoThreads, order_.size(), [&](std::size_t m) {
+        const Contact& con = contacts[order_[m]];
         const Body& a = bodies[con.a];
         const Body& b = bodies[con.b];
-        for (int k = 0; k < con.pointCount; ++k, ++next) {
+        for (int k = 0; k < con.pointCount; ++k) {
+            const std::uint32_t i = memory.entries[m].first + static_cast<std::uint32_t>(k);
             const PointImpulse& s = sums_[first_[order_[m]] + k];
-            memory.points[next] = con.points[k];
-            memory.sums[next] = {s.normal, s.tangent};
-            memory.onA[next] = a.orientation.conjugate() * (con.points[k] - a.position);
-            memory.onB[next] = b.orientation.conjugate() * (con.points[k] - b.position);
+            memory.points[i] = con.points[k];
+            memory.sums[i] = {s.normal, s.tangent};
+            memory.onA[i] = a.orientation.conjugate() * (con.points[k] - a.position);
+            memory.onB[i] = b.orientation.conjugate() * (con.points[k] - b.position);
         }
-    }
+    });
 }
 
 }  // namespace gpl

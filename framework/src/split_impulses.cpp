@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 namespace gpl {
@@ -81,49 +82,76 @@ double depthAlong(const Body& a, const Body& b, const Vec3& p, const Vec3& n, do
     return sa.hi - sb.lo - margin;
 }
 
-void SplitImpulses::add(std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth,
+void SplitImpulses::set(std::size_t k, std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth,
                         const std::vector<Body>& bodies, const Mat3& invIa, const Mat3& invIb) {
     Point q{a, b, p - bodies[a].position, p - bodies[b].position, n, bodies[a].invMass, bodies[b].invMass, 0.0, depth};
     const Vec3 ran = q.ra.cross(n), rbn = q.rb.cross(n);
     q.wn = q.ma + q.mb + ran.dot(invIa * ran) + rbn.dot(invIb * rbn);
-    if (q.wn > 0.0) points_.push_back(q);
+    points_[k] = q;
 }
 
-void SplitImpulses::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, double slop, double h, int sweeps) {
+void SplitImpulses::sweep(std::vector<Point>& points, const std::vector<Mat3>& invI) {
+    for (Point& q : points) {
+        Vec3& va = pseudo_[q.a].v;
+        Vec3& vb = pseudo_[q.b].v;
+        Vec3& wa = pseudo_[q.a].w;
+        Vec3& wb = pseudo_[q.b].w;
+        const double vn = q.n.dot(vb + wb.cross(q.rb) - va - wa.cross(q.ra));  // m/s, > 0 separating
+        const double sum = std::max(0.0, q.sum + (q.target - vn) / q.wn);
+        const Vec3 impulse = (sum - q.sum) * q.n;  // N s, on b; -impulse on a
+        q.sum = sum;
+        // A static body's pseudo velocities stay zero (its inverse mass and inertia are zero): they
+        // are not written, so the two halves never write the same body.
+        if (q.ma != 0.0) {
+            va -= q.ma * impulse;
+            wa -= invI[q.a] * q.ra.cross(impulse);
+        }
+        if (q.mb != 0.0) {
+            vb += q.mb * impulse;
+            wb += invI[q.b] * q.rb.cross(impulse);
+        }
+    }
+}
+
+void SplitImpulses::run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, double slop, double h, int sweeps,
+                        const Halves* halves, SecondThread* second) {
     bool any = false;
     for (Point& q : points_) {
         q.target = q.depth > slop ? kShare * (q.depth - slop) / h : 0.0;  // m/s
         q.sum = 0.0;
-        any |= q.target > 0.0;
+        any |= q.target > 0.0 && q.wn > 0.0;
     }
     if (!any) return;
     pseudo_.assign(bodies.size(), Pseudo{});
-    for (int sweep = 0; sweep < sweeps; ++sweep) {
-        for (Point& q : points_) {
-            Vec3& va = pseudo_[q.a].v;
-            Vec3& vb = pseudo_[q.b].v;
-            Vec3& wa = pseudo_[q.a].w;
-            Vec3& wb = pseudo_[q.b].w;
-            const double vn = q.n.dot(vb + wb.cross(q.rb) - va - wa.cross(q.ra));  // m/s, > 0 separating
-            const double sum = std::max(0.0, q.sum + (q.target - vn) / q.wn);
-            const Vec3 impulse = (sum - q.sum) * q.n;  // N s, on b; -impulse on a
-            q.sum = sum;
-            va -= q.ma * impulse;
-            vb += q.mb * impulse;
-            wa -= invI[q.a] * q.ra.cross(impulse);
-            wb += invI[q.b] * q.rb.cross(impulse);
-        }
+    // The points to sweep, by part (all in the middle without a cut). A point of two static bodies
+    // (wn = 0) has nothing to move.
+    const bool cut = halves != nullptr && halves->cutInTwo();
+    for (std::vector<Point>& part : parts_) part.clear();
+    for (const Point& q : points_) {
+        if (q.wn > 0.0) parts_[cut ? halves->part(q.a, q.b) : Halves::kMiddle].push_back(q);
     }
-    for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const auto part = [this, &invI](int p) { sweep(parts_[p], invI); };
+    const std::function<void()> left = [&part] { part(Halves::kLeft); };
+    const std::function<void()> right = [&part] { part(Halves::kRight); };
+    for (int s = 0; s < sweeps; ++s) {
+        if (cut && second != nullptr) {
+            second->run(true, left, right);
+        } else if (cut) {
+            left();
+            right();
+        }
+        part(Halves::kMiddle);
+    }
+    inHalves(cut ? second : nullptr, bodies.size(), [&](std::size_t i) {
         Body& body = bodies[i];
-        if (body.isStatic()) continue;
+        if (body.isStatic()) return;
         body.position += h * pseudo_[i].v;
         const Vec3 turn = h * pseudo_[i].w;  // rad, world frame
         if (!turn.isZero(0.0)) {
             const double angle = turn.norm();
             body.orientation = (Quat(Eigen::AngleAxisd(angle, turn / angle)) * body.orientation).normalized();
         }
-    }
+    });
 }
 
 }  // namespace gpl

@@ -260,9 +260,11 @@ TEST(SplitImpulses, LevelATiltedBoxAndLeaveItsVelocitiesAlone) {
     const std::vector<Mat3> invI{worldInverseInertia(bodies[0]), worldInverseInertia(bodies[1])};
     const double slop = 0.0005, deep = 0.003, h = 0.01;
     SplitImpulses split;
+    split.resize(4);
+    std::size_t k = 0;
     for (const double z : {-0.5, 0.5}) {
-        split.add(0, 1, {0.5, 0.0, z}, -Vec3::UnitY(), deep, bodies, invI[0], invI[1]);
-        split.add(0, 1, {-0.5, 0.0, z}, -Vec3::UnitY(), slop, bodies, invI[0], invI[1]);
+        split.set(k++, 0, 1, {0.5, 0.0, z}, -Vec3::UnitY(), deep, bodies, invI[0], invI[1]);
+        split.set(k++, 0, 1, {-0.5, 0.0, z}, -Vec3::UnitY(), slop, bodies, invI[0], invI[1]);
     }
     split.run(bodies, invI, slop, h, 20);
     const Body& after = bodies[0];

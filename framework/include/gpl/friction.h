@@ -142,6 +142,8 @@ public:
     void run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
              const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums, int sweeps,
              bool skipIdle = true, SecondThread* second = nullptr, const Start* start = nullptr);
+    /// The halves of the last run (cut in two for a large stage), for the stage's position correction.
+    const Halves& halves() const { return halves_; }
 
 private:
     /// One contact as a part solves it, everything it needs found beforehand.
@@ -307,15 +309,17 @@ private:
     /// that still touch: within kKeepGap of touching, slid less than kKeepSlide, continued by no
     /// point of this step (ContactMemory::pairUp()), up to kMaxContactPoints a contact; and a
     /// contact of such points for a pair the kernels report no more. Finds each contact's entry of
-    /// last step (remembered_, flipped_) on the way.
-    void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts);
+    /// last step (remembered_, flipped_) on the way. With `twoThreads`, the contacts in two halves.
+    void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts, SecondThread* twoThreads);
     /// The first pass (start, prepare, warm start) and the sweeps of a small stage: the plain loop
     /// (see step()).
     void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps);
     /// Last step's sums of contact c's points, and their approach now.
     void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums) const;
-    /// Keeps this step's sums, sorted by pair, for the next step.
-    void keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies);
+    /// Keeps this step's sums, sorted by pair, for the next step (their points in two halves with
+    /// `twoThreads`).
+    void keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies,
+              SecondThread* twoThreads = nullptr);
 };
 
 }  // namespace gpl

@@ -85,4 +85,24 @@ private:
     Shared* shared_;
 };
 
+/// each(i) for every i in [0, count), for a loop whose steps touch different data: with `second`
+/// (and it helps()), [0, count / 2) here and the rest on the second thread at once; otherwise one
+/// plain loop here. The same result either way.
+template <class Each>
+void inHalves(SecondThread* second, std::size_t count, const Each& each) {
+    const auto range = [&each](std::size_t from, std::size_t to) {
+        for (std::size_t i = from; i < to; ++i) each(i);
+    };
+    if (second == nullptr || count < 2 || !second->helps()) {
+        range(0, count);
+        return;
+    }
+    const std::size_t half = count / 2;
+    // Each captures one reference, which fits in std::function's own storage: nothing is allocated.
+    const auto halves = [&range, half, count](bool first) { first ? range(0, half) : range(half, count); };
+    const std::function<void()> mine = [&halves] { halves(true); };
+    const std::function<void()> theirs = [&halves] { halves(false); };
+    second->run(true, mine, theirs);
+}
+
 }  // namespace gpl

@@ -4,11 +4,14 @@
 // are then forgotten: the bodies' real velocities, and so their kinetic energy, never see them.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
 #include "gpl/body.h"
 #include "gpl/contact.h"
+#include "gpl/halves.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 
@@ -30,17 +33,21 @@ public:
     /// that a body pushed out of two overlaps at once does not overshoot.
     static constexpr double kShare = 0.2;
 
-    /// Starts a step: forgets every point.
-    void clear() { points_.clear(); }
-    /// A contact point of bodies a and b at p with normal n (from a towards b), whose overlap at the
-    /// end of the step is expected to be `depth` (m); invIa, invIb are the bodies' world inverse
-    /// inertias.
-    void add(std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth, const std::vector<Body>& bodies,
-             const Mat3& invIa, const Mat3& invIb);
+    /// Starts a step with `count` points, each to be set with set() before run().
+    void resize(std::size_t count) { points_.resize(count); }
+    /// Point k: a contact point of bodies a and b at p with normal n (from a towards b), whose
+    /// overlap at the end of the step is expected to be `depth` (m); invIa, invIb are the bodies'
+    /// world inverse inertias.
+    void set(std::size_t k, std::size_t a, std::size_t b, const Vec3& p, const Vec3& n, double depth,
+             const std::vector<Body>& bodies, const Mat3& invIa, const Mat3& invIb);
     /// Removes kShare of every point's overlap beyond `slop` (m) with `sweeps` Gauss-Seidel sweeps
     /// of summed, non-negative normal impulses on the pseudo velocities, then moves and turns every
     /// body by h times its pseudo velocities. Does nothing when no point overlaps by more than the slop.
-    void run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, double slop, double h, int sweeps);
+    /// With `halves` cut in two (a large stage's, as the velocity sweeps cut it), each sweep takes the
+    /// left half's points, then the right half's, then the middle's, the two halves at once on
+    /// `second`: the same result on one thread and two.
+    void run(std::vector<Body>& bodies, const std::vector<Mat3>& invI, double slop, double h, int sweeps,
+             const Halves* halves = nullptr, SecondThread* second = nullptr);
 
 private:
     struct Point {
@@ -54,12 +61,18 @@ private:
         double sum = 0.0;     ///< summed pseudo impulse (N s), >= 0
     };
     std::vector<Point> points_;
-    /// A body's pseudo velocities, together on one cache line.
-    struct Pseudo {
+    /// A body's pseudo velocities, on a cache line of their own (the two halves write their bodies').
+    struct alignas(64) Pseudo {
         Vec3 v = Vec3::Zero();  ///< m/s
         Vec3 w = Vec3::Zero();  ///< rad/s, world frame
     };
     std::vector<Pseudo> pseudo_;  ///< per body
+    /// The points swept, copied part by part (left half, right half, middle; all in the middle
+    /// without a cut), each in their order: each thread writes its own part's.
+    std::array<std::vector<Point>, 3> parts_;
+
+    /// One sweep over `points`.
+    void sweep(std::vector<Point>& points, const std::vector<Mat3>& invI);
 };
 
 }  // namespace gpl
