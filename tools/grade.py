@@ -19,13 +19,13 @@ two pipes; the checker's report decides. Points, hints, Gradescope results.json 
   grade.py failure --json FILE --message TEXT
       writes a results.json with zero points that says why the grading could not run.
   grade.py selfcheck --checker CHECKER --hooks ENGINE (--expect full | --expect zero | --mutant NAME)
-                     [--worksheet N | --from-worksheet N] [--about TEXT]
+                     [--worksheet N | --from-worksheet N] [--about TEXT] [--leave-out NAME,...]
       the grader's own checks: the solutions (and the correct alternatives, tests/alternatives/*.json)
       score full marks, the stubs zero, and each seeded mistake (tests/mutants/*.json) loses points in
       the test named for it, which fails on its own (graded on that test's worksheet unless
       --worksheet says otherwise). --from-worksheet N grades worksheet N and every later one: the
       tests that can call a hook of worksheet N. --about TEXT is printed above the table (what the
-      engine graded is).
+      engine graded is). --leave-out NAME,... runs every test but those (with --expect).
 
 Exit status: 0 full marks, 1 points lost, 2 the grading itself could not run (a one-line error).
 
@@ -294,6 +294,14 @@ def cmd_selfcheck(args):
         if not only:
             raise GradeError(f"no graded tests for worksheet {args.from_worksheet} or later; the worksheets with "
                              "graded tests: " + ", ".join(map(str, sorted({t["worksheet"] for t in tests}))))
+    if args.leave_out:
+        if spec is not None:
+            raise GradeError("--leave-out goes with --expect, not with --mutant")
+        known = {t["name"] for t in programs.manifest()}
+        unknown = [n for n in args.leave_out if n not in known]
+        if unknown:
+            raise GradeError(f"--leave-out: no graded test is named {', '.join(unknown)}")
+        only = (only if only is not None else known) - set(args.leave_out)
     results = grade_binary(programs, args.worksheet, args.defaults, only=only, jobs=TESTS_AT_ONCE)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
@@ -386,6 +394,9 @@ def main(argv):
     s.add_argument("--from-worksheet", type=int, metavar="N",
                    help="with --expect: grade worksheet N and every later one (the tests that can call its hooks)")
     s.add_argument("--about", default="", metavar="TEXT", help="printed above the table: what the engine graded is")
+    s.add_argument("--leave-out", type=lambda v: [n for n in v.split(",") if n], default=[], metavar="NAME,...",
+                   help="with --expect: graded tests not run (the sanitizer presets leave out the longest fluid "
+                        "runs, whose physics the release preset grades)")
 
     b = sub.add_parser("prebuild")
     b.add_argument("--build-dir", required=True)

@@ -1074,5 +1074,33 @@ class Hooks(unittest.TestCase):
                 self.assertIn(says, proc.stderr)
 
 
+    def test_selfcheck_leaves_out_the_tests_named(self):
+        # What the asan-core preset's self-check of the solutions runs: every test but those named.
+        left_out = ["Worksheet1.StaysFinite", "Worksheet1.GravityPointsDown"]
+        with contextlib.redirect_stdout(io.StringIO()) as out:
+            status = grade.main(["selfcheck", "--checker", env_path("GPL_CHECKER"), "--hooks",
+                                 env_path("GPL_HOOKS_SOLUTIONS"), "--expect", "full", "--worksheet", "1",
+                                 "--leave-out", ",".join(left_out)])
+        self.assertEqual(status, 0, out.getvalue())
+        self.assertIn("OK: full marks", out.getvalue())
+        graded = [t["name"] for t in programs("solutions").manifest() if t["worksheet"] == 1]
+        for name in graded:
+            if name in left_out:
+                self.assertNotIn(name, out.getvalue())
+            else:
+                self.assertIn(name, out.getvalue())
+        # A name that is no graded test, or --leave-out beside a seeded mistake: one line, status 2.
+        for extra, says in [(["--expect", "full", "--leave-out", "Worksheet1.StaysFinit"],
+                             "--leave-out: no graded test is named Worksheet1.StaysFinit"),
+                            (["--mutant", "explicit_euler", "--leave-out", "Worksheet1.StaysFinite"],
+                             "--leave-out goes with --expect, not with --mutant")]:
+            with self.subTest(extra=extra):
+                proc = subprocess.run([sys.executable, str(ROOT / "tools" / "grade.py"), "selfcheck", "--checker",
+                                       env_path("GPL_CHECKER"), "--hooks", env_path("GPL_HOOKS_SOLUTIONS"), *extra],
+                                      capture_output=True, text=True)
+                self.assertEqual(proc.returncode, 2, proc.stdout[-500:])
+                self.assertEqual(len(proc.stderr.strip().splitlines()), 1, proc.stderr)
+                self.assertIn(says, proc.stderr)
+
 if __name__ == "__main__":
     unittest.main()
