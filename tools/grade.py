@@ -272,13 +272,14 @@ def cmd_report(args):
 
 def cmd_selfcheck(args):
     programs = Programs(args.checker, args.hooks)
+    tests = programs.manifest()  # read once: each reading runs the checker
     spec = None
     if args.mutant:
         specs = {m["name"]: m for m in hooks.load_mutants()}
         if args.mutant not in specs:
             raise GradeError(f"unknown seeded mistake '{args.mutant}'; known: {', '.join(sorted(specs))}")
         spec = specs[args.mutant]
-        named = next((t for t in programs.manifest() if t["name"] == spec["must_fail"]), None)
+        named = next((t for t in tests if t["name"] == spec["must_fail"]), None)
         if named is None:
             raise GradeError(f"seeded mistake '{args.mutant}' names the test {spec['must_fail']}, which does not exist")
         if args.worksheet is None:
@@ -287,9 +288,8 @@ def cmd_selfcheck(args):
     # what decides whether the named test loses its points; the others would only take time.
     only = None
     if spec is not None:
-        only = with_prerequisites(select(programs.manifest(), args.worksheet), spec["must_fail"])
+        only = with_prerequisites(select(tests, args.worksheet), spec["must_fail"])
     elif args.from_worksheet is not None:
-        tests = programs.manifest()
         only = {t["name"] for t in tests if t["worksheet"] >= args.from_worksheet}
         if not only:
             raise GradeError(f"no graded tests for worksheet {args.from_worksheet} or later; the worksheets with "
@@ -297,12 +297,12 @@ def cmd_selfcheck(args):
     if args.leave_out:
         if spec is not None:
             raise GradeError("--leave-out goes with --expect, not with --mutant")
-        known = {t["name"] for t in programs.manifest()}
+        known = {t["name"] for t in tests}
         unknown = [n for n in args.leave_out if n not in known]
         if unknown:
             raise GradeError(f"--leave-out: no graded test is named {', '.join(unknown)}")
         only = (only if only is not None else known) - set(args.leave_out)
-    results = grade_binary(programs, args.worksheet, args.defaults, only=only, jobs=TESTS_AT_ONCE)
+    results = grade_binary(programs, args.worksheet, args.defaults, only=only, tests=tests, jobs=TESTS_AT_ONCE)
     total = sum(r["score"] for r in results)
     maximum = sum(r["points"] for r in results)
     failed = [r["name"] for r in results if not r["passed"]]
