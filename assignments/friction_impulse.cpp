@@ -1,20 +1,22 @@
 // Worksheet 7, assignment 5: the Coulomb friction impulse, summed over the sweeps.
 //
-// Inputs:  point  the contact point as prepareContactPoint() left it: p (m, world frame), lever arms
-//                 r_a, r_b (m), unit tangents t1, t2 (with n an orthonormal basis), K_t1, K_t2 (1/kg),
-//                 staticFriction mu_s, friction mu_d (sliding, mu_d <= mu_s)
-//          a, b   v, omega (and what applyImpulseAtPoint() reads)
+// Inputs:  point  the contact point as prepareContactPoint() left it: its tangent axes t1 and t2 (unit
+//                 directions t1.d, t2.d, with n an orthonormal basis; for each t: t.raXd = r_a x t,
+//                 t.rbXd = r_b x t, t.invIaRaXd = I_a^-1 (r_a x t), t.invIbRbXd = I_b^-1 (r_b x t),
+//                 t.K = K(t) (1/kg)), staticFriction mu_s, friction mu_d (sliding, mu_d <= mu_s)
+//          a, b   v, omega, invMass
 //          sum    normal: lambda_n, this point's normal sum as the normal impulse just left it (N s,
 //                 >= 0); tangent: its friction sum J_t so far (N s, world frame, perpendicular to n)
-// Outputs: with the relative velocity of the material points at p
-//            u = v_b + omega_b x r_b - v_a - omega_a x r_a   (m/s)
-//          and its slip along each tangent, u . t1 and u . t2, the candidate sum stops the slip along
-//          each tangent:
+// Outputs: with the slip of the two material points at p along each tangent t,
+//            u . t = t . (v_b - v_a) + (r_b x t) . omega_b - (r_a x t) . omega_a   (m/s),
+//          the candidate sum stops the slip along each tangent:
 //            J = J_t - (u . t1 / K_t1) t1 - (u . t2 / K_t2) t2   (N s).
 //          Coulomb: the point sticks while |J| <= mu_s lambda_n (the sum becomes J); otherwise it
-//          slides and the sum becomes mu_d lambda_n J / |J|. The difference (new sum - old sum) goes
-//          to the bodies at p through applyImpulseAtPoint(). With no normal sum and no friction sum
-//          the cone is a point: the sum stays zero.
+//          slides and the sum becomes mu_d lambda_n J / |J|. The difference, new sum - old sum
+//          = dl_1 t1 + dl_2 t2, acts at p: on b
+//            v_b += (dl_1 t1 + dl_2 t2) / m_b     omega_b += dl_1 I_b^-1 (r_b x t1) + dl_2 I_b^-1 (r_b x t2)
+//          and its opposite on a. With no normal sum and no friction sum the cone is a point: the sum
+//          stays zero.
 #include <cassert>
 
 #include "gpl/friction.h"

@@ -8,16 +8,16 @@
 //          approach  the normal velocity of the two material points at p when the stage began, before
 //                    any impulse of this step (m/s; < 0 approaching)
 // Outputs: the ContactPoint the sweeps read while the velocities change and the positions do not:
-//            p = p_k,  r_a = p - x_a,  r_b = p - x_b,  n,
-//            t1, t2 = tangentBasis(n): unit tangents, with n an orthonormal basis,
-//            K_n = K(n), K_t1 = K(t1), K_t2 = K(t2) with the inverse effective mass along a unit d
+//            p = p_k,  r_a = p - x_a,  r_b = p - x_b,
+//            three axes: n along the normal, t1 and t2 along the unit tangents tangentBasis(n) (with
+//            n an orthonormal basis), each for its unit direction d:
+//              d,  r_a x d,  r_b x d,  I_a^-1 (r_a x d),  I_b^-1 (r_b x d)  and the inverse effective mass
 //              K(d) = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)   (1/kg),
 //            target = -e approach  when approach < -kRestingSpeed (a collision bounces),
 //                     0            otherwise (a resting contact does not),
 //            mu_s and mu_d of the contact.
 //          K(d) is a sum of a mass and two quadratic forms of inverse inertias: never negative (asserted).
 #include <cassert>
-#include <tuple>
 
 #include "gpl/contact_point.h"
 #include "gpl/friction.h"

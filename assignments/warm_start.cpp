@@ -1,7 +1,7 @@
 // Worksheet 7, assignment 3: warm starting, last step's impulses applied again.
 //
-// Inputs:  point  the contact point as prepareContactPoint() left it: p (m, world frame), unit
-//                 normal n (from a towards b)
+// Inputs:  point  the contact point as prepareContactPoint() left it: p (m, world frame), the unit
+//                 normal n = n.d (from a towards b)
 //          a, b   what applyImpulseAtPoint() reads and changes: x, v, omega, invMass, orientation, invInertia
 //          sum    what the sweeps of last step summed up at this point: normal lambda_n (N s, >= 0)
 //                 and tangent J_t (N s, world frame, perpendicular to n); the framework found it by the

@@ -8,16 +8,16 @@
 //          approach  the normal velocity of the two material points at p when the stage began, before
 //                    any impulse of this step (m/s; < 0 approaching)
 // Outputs: the ContactPoint the sweeps read while the velocities change and the positions do not:
-//            p = p_k,  r_a = p - x_a,  r_b = p - x_b,  n,
-//            t1, t2 = tangentBasis(n): unit tangents, with n an orthonormal basis,
-//            K_n = K(n), K_t1 = K(t1), K_t2 = K(t2) with the inverse effective mass along a unit d
+//            p = p_k,  r_a = p - x_a,  r_b = p - x_b,
+//            three axes: n along the normal, t1 and t2 along the unit tangents tangentBasis(n) (with
+//            n an orthonormal basis), each for its unit direction d:
+//              d,  r_a x d,  r_b x d,  I_a^-1 (r_a x d),  I_b^-1 (r_b x d)  and the inverse effective mass
 //              K(d) = 1/m_a + 1/m_b + (r_a x d) . I_a^-1 (r_a x d) + (r_b x d) . I_b^-1 (r_b x d)   (1/kg),
 //            target = -e approach  when approach < -kRestingSpeed (a collision bounces),
 //                     0            otherwise (a resting contact does not),
 //            mu_s and mu_d of the contact.
 //          K(d) is a sum of a mass and two quadratic forms of inverse inertias: never negative (asserted).
 #include <cassert>
-#include <tuple>
 
 #include "gpl/contact_point.h"
 #include "gpl/friction.h"
@@ -34,16 +34,21 @@ ContactPoint prepareContactPoint([[maybe_unused]] const Contact& contact, [[mayb
     point.p = contact.points[k];
     point.ra = point.p - a.position;
     point.rb = point.p - b.position;
-    point.n = contact.normal;
-    std::tie(point.t1, point.t2) = tangentBasis(point.n);
-    const auto K = [&](const Vec3& d) {  // 1/kg
-        const Vec3 rad = point.ra.cross(d), rbd = point.rb.cross(d);
-        return a.invMass + b.invMass + rad.dot(invIa * rad) + rbd.dot(invIb * rbd);
+    const auto axis = [&](const Vec3& d) {
+        ContactAxis along;
+        along.d = d;
+        along.raXd = point.ra.cross(d);
+        along.rbXd = point.rb.cross(d);
+        along.invIaRaXd = invIa * along.raXd;
+        along.invIbRbXd = invIb * along.rbXd;
+        along.K = a.invMass + b.invMass + along.raXd.dot(along.invIaRaXd) + along.rbXd.dot(along.invIbRbXd);  // 1/kg
+        assert(along.K >= 0.0);
+        return along;
     };
-    point.Kn = K(point.n);
-    point.Kt1 = K(point.t1);
-    point.Kt2 = K(point.t2);
-    assert(point.Kn >= 0.0 && point.Kt1 >= 0.0 && point.Kt2 >= 0.0);
+    const auto [t1, t2] = tangentBasis(contact.normal);
+    point.n = axis(contact.normal);
+    point.t1 = axis(t1);
+    point.t2 = axis(t2);
     point.target = approach < -kRestingSpeed ? -contact.restitution * approach : 0.0;  // m/s
     point.staticFriction = contact.staticFriction;
     point.friction = contact.friction;

@@ -53,15 +53,12 @@ bool solveContact(const ContactPoint* points, PointImpulse* sums, int count, Bod
 /// How many contacts ahead solve() asks for the bodies.
 constexpr std::size_t kAhead = 4;
 
-/// Asks for the cache lines of a body that the sweeps' kernels use: the first two (position,
-/// velocity, masses, angular velocity; body.h) and those of its orientation and inverse inertia.
+/// Asks for the cache lines of a body that the sweeps' kernels read and write: its first two
+/// (position, velocity, masses, angular velocity; body.h). The rest of what they read is the point's.
 inline void prefetchBody(const Body* body) {
     const char* at = reinterpret_cast<const char*>(body);
     __builtin_prefetch(at, 1);
     __builtin_prefetch(at + 64, 1);
-    __builtin_prefetch(&body->orientation);
-    __builtin_prefetch(&body->invInertia);
-    __builtin_prefetch(reinterpret_cast<const char*>(&body->invInertia) + sizeof(Mat3) - 1);
 }
 
 }  // namespace
@@ -201,13 +198,18 @@ void ContactSweeps::bothHalves(const std::function<void()>& left, const std::fun
 }
 
 void ContactSweeps::measure(Part& part, const std::vector<Contact>& contacts, const Start* start) {
+    std::array<double, kMaxContactPoints> closing;
+    closing.fill(0.0);
     for (const Job& job : part.jobs) {
         if (start != nullptr) {
-            (*start)(static_cast<std::size_t>(job.contact - contacts.data()), *job.a, *job.b, &part.sums[job.point]);
+            (*start)(static_cast<std::size_t>(job.contact - contacts.data()), *job.a, *job.b, &part.sums[job.point],
+                     closing.data());
         }
         for (int k = 0; k < job.contact->pointCount; ++k) {
-            part.points[job.point + k] = prepareContactPoint(*job.contact, k, *job.a, *job.b, *job.invIa, *job.invIb,
-                                                             part.sums[job.point + k].approach);
+            ContactPoint& point = part.points[job.point + k];
+            point = prepareContactPoint(*job.contact, k, *job.a, *job.b, *job.invIa, *job.invIb,
+                                        part.sums[job.point + k].approach);
+            mayCloseGap(point, closing[k]);
         }
     }
 }
@@ -272,7 +274,7 @@ void ContactSweeps::solve(Part& part, bool skipIdle) {
     const std::size_t jobs = part.jobs.size();
     for (std::size_t j = 0; j < jobs; ++j) {
         // The bodies of a contact a few ahead are asked for now: what the kernels read and write of
-        // them (velocities; the inverse inertia) is then in the cache when the solve reaches them.
+        // them (the velocities) is then in the cache when the solve reaches them.
         if (j + kAhead < jobs) {
             const Job& next = part.jobs[j + kAhead];
             prefetchBody(next.a);

@@ -3,8 +3,10 @@
 //   1. builds every body's world inverse inertia once (worldInverseInertia(); orientations do not
 //      change during the stage): the points' preparation and the position correction read it,
 //   2. measures each point's approach speed (what restitution answers) before anything changes it,
-//      and prepares the point once with prepareContactPoint(): lever arms, tangents, inverse
-//      effective masses and the normal velocity to reach, which the sweeps only read,
+//      and prepares the point once with prepareContactPoint(): lever arms, an axis along the
+//      normal and each tangent (what reads the point's velocity along it and pushes the bodies
+//      along it, and its inverse effective mass) and the normal velocity to reach, which the sweeps
+//      only read,
 //   3. warm starts: a point that continues one of last step's of the same pair of bodies starts
 //      from that point's sums (ContactMemory::match(): one to one, by where the bodies carry last
 //      step's points, within kWarmStartDistance), applied once with applyWarmStart(),
@@ -166,6 +168,7 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     // The loops below that visit each contact or body once touch different data at each: a large
     // stage runs them in two halves (inHalves(), second_thread.h).
     SecondThread* const twoThreads = timed.second();  // null: this run of the stage is on one thread
+    h_ = h;
     keepPoints(bodies, contacts, twoThreads);
     // 1. Each body's velocities now and its world inverse inertia, once.
     before_.resize(bodies.size());
@@ -210,7 +213,9 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
         sweep(bodies, contacts, sweeps);
     } else {
         const ContactSweeps::Start begin = [this, &contacts](std::size_t c, const Body& a, const Body& b,
-                                                             PointImpulse* sums) { start(contacts, c, a, b, sums); };
+                                                             PointImpulse* sums, double* closing) {
+            start(contacts, c, a, b, sums, closing);
+        };
         sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, twoThreads, &begin);
         cut = &sweeps_.halves();
     }
@@ -353,22 +358,32 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
 }
 
 void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b,
-                          PointImpulse* sums) const {
+                          PointImpulse* sums, double* closing) const {
     const Contact& con = contacts[c];
     memory_.match(remembered_[c], flipped_[c], con, a, b, sums, paired_[c] ? &pairings_[c] : nullptr);
-    for (int k = 0; k < con.pointCount; ++k) sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
+    for (int k = 0; k < con.pointCount; ++k) {
+        sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
+        // Integration has moved the point by h times its approach: at the step's start its gap was
+        // at least -depth - h approach, with the contact's depth (its deepest point's: a point's own
+        // depth along the normal is not defined at a corner), which a normal velocity of -gap / h
+        // closes by the step's end.
+        if (closing != nullptr) closing[k] = -con.depth / h_ - sums[k].approach;
+    }
 }
 
 void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps) {
     // Every point's approach is measured, and every point prepared, before any warm start: an
     // impulse at one point changes the velocities at the others.
     points_.resize(first_.back());
+    std::array<double, kMaxContactPoints> closing;
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& con = contacts[c];
-        start(contacts, c, bodies[con.a], bodies[con.b], &sums_[first_[c]]);
+        start(contacts, c, bodies[con.a], bodies[con.b], &sums_[first_[c]], closing.data());
         for (int k = 0; k < con.pointCount; ++k) {
-            points_[first_[c] + k] = prepareContactPoint(con, k, bodies[con.a], bodies[con.b], invI_[con.a],
-                                                         invI_[con.b], sums_[first_[c] + k].approach);
+            ContactPoint& point = points_[first_[c] + k];
+            point = prepareContactPoint(con, k, bodies[con.a], bodies[con.b], invI_[con.a], invI_[con.b],
+                                        sums_[first_[c] + k].approach);
+            mayCloseGap(point, closing[k]);
         }
     }
     for (std::size_t c = 0; c < contacts.size(); ++c) {

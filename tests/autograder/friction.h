@@ -42,20 +42,32 @@ struct Touch {
     PointImpulse sum;
 };
 
-/// The touch's point as the sweeps read it, prepared in the tests' own way: lever arms, the touch's
-/// tangent basis, the inverse effective masses along n and the tangents, and the target of the
-/// contract: -e approach above kRestingSpeed, else 0.
+/// The axis of a point at p along the unit direction d, in the tests' own way: the lever arms'
+/// cross products with d, the world inverse inertias (the tests' own R I R^T, inverted) applied to
+/// them, and the inverse effective mass in worksheet 6's triple-product form.
+inline ContactAxis axisOf(const Body& a, const Body& b, const Vec3& p, const Vec3& d) {
+    ContactAxis x;
+    x.d = d;
+    x.raXd = (p - a.position).cross(d);
+    x.rbXd = (p - b.position).cross(d);
+    x.invIaRaXd = inverseWorldInertia(a) * x.raXd;
+    x.invIbRbXd = inverseWorldInertia(b) * x.rbXd;
+    x.K = inverseMassAlong(a, b, p, d);
+    return x;
+}
+
+/// The touch's point as the sweeps read it, prepared in the tests' own way: lever arms, the axes of
+/// the touch's tangent basis (axisOf()), and the target of the contract: -e approach above
+/// kRestingSpeed, else 0.
 inline ContactPoint pointOf(const Touch& t) {
     ContactPoint c;
     c.p = t.contact.points[0];
     c.ra = c.p - t.a.position;
     c.rb = c.p - t.b.position;
-    c.n = t.contact.normal;
-    c.t1 = t.tangent;
-    c.t2 = c.n.cross(c.t1);
-    c.Kn = inverseMassAlong(t.a, t.b, c.p, c.n);
-    c.Kt1 = inverseMassAlong(t.a, t.b, c.p, c.t1);
-    c.Kt2 = inverseMassAlong(t.a, t.b, c.p, c.t2);
+    const Vec3& n = t.contact.normal;
+    c.n = axisOf(t.a, t.b, c.p, n);
+    c.t1 = axisOf(t.a, t.b, c.p, t.tangent);
+    c.t2 = axisOf(t.a, t.b, c.p, n.cross(t.tangent));
     c.target = t.sum.approach < -kRestingSpeed ? -t.contact.restitution * t.sum.approach : 0.0;
     c.staticFriction = t.contact.staticFriction;
     c.friction = t.contact.friction;
@@ -64,9 +76,9 @@ inline ContactPoint pointOf(const Touch& t) {
 
 inline std::string touchText(const Touch& t) {
     const ContactPoint c = pointOf(t);
-    return "\n  a: " + turning(t.a) + "\n  b: " + turning(t.b) + "\n  point p " + str(c.p) + ", n " + str(c.n) +
-           ", t1 " + str(c.t1) + ", t2 " + str(c.t2) + "\n  K_n " + formatNumber(c.Kn) + ", K_t1 " +
-           formatNumber(c.Kt1) + ", K_t2 " + formatNumber(c.Kt2) + " 1/kg, target " + formatNumber(c.target) +
+    return "\n  a: " + turning(t.a) + "\n  b: " + turning(t.b) + "\n  point p " + str(c.p) + ", n " + str(c.n.d) +
+           ", t1 " + str(c.t1.d) + ", t2 " + str(c.t2.d) + "\n  K_n " + formatNumber(c.n.K) + ", K_t1 " +
+           formatNumber(c.t1.K) + ", K_t2 " + formatNumber(c.t2.K) + " 1/kg, target " + formatNumber(c.target) +
            " m/s, mu_s " + formatNumber(c.staticFriction) + ", mu_d " + formatNumber(c.friction) +
            "\n  sums before: normal " + formatNumber(t.sum.normal) + " N s, tangent " + str(t.sum.tangent) +
            " N s, approach " + formatNumber(t.sum.approach) + " m/s";

@@ -47,12 +47,12 @@ GRADED_TEST(Worksheet7Hidden, PreparedPointSameForSwappedPair, 2,
         std::swap(s.a, s.b);
         s.contact.normal = -t.contact.normal;
         const ContactPoint c = prepared(t), d = prepared(s);
-        ASSERT_GT(c.Kn, 0.0) << "K_n of a pair with a body that can move must be positive" << touchText(t);
-        const double tol = 1e-10 * (1.0 + c.Kn + c.Kt1 + c.Kt2);
+        ASSERT_GT(c.n.K, 0.0) << "K_n of a pair with a body that can move must be positive" << touchText(t);
+        const double tol = 1e-10 * (1.0 + c.n.K + c.t1.K + c.t2.K);
         ASSERT_LE((c.ra - d.rb).norm() + (c.rb - d.ra).norm(), 1e-10 * (1.0 + c.ra.norm() + c.rb.norm()))
             << "the lever arms must swap" << touchText(t);
-        ASSERT_NEAR(c.Kn, d.Kn, tol) << "K_n changed with the pair swapped" << touchText(t);
-        ASSERT_NEAR(c.Kt1 + c.Kt2, d.Kt1 + d.Kt2, tol) << "K_t1 + K_t2 changed with the pair swapped" << touchText(t);
+        ASSERT_NEAR(c.n.K, d.n.K, tol) << "K_n changed with the pair swapped" << touchText(t);
+        ASSERT_NEAR(c.t1.K + c.t2.K, d.t1.K + d.t2.K, tol) << "K_t1 + K_t2 changed with the pair swapped" << touchText(t);
         ASSERT_NEAR(c.target, d.target, 1e-12 * (1.0 + c.target)) << "the target changed" << touchText(t);
     }
 }

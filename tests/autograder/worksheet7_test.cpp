@@ -12,6 +12,7 @@
 #include <cmath>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "friction.h"
@@ -53,9 +54,9 @@ ContactPoint prepared(const Touch& t, int k = 0) {
 }
 
 std::string pointText(const ContactPoint& c) {
-    return "\n  prepared: p " + str(c.p) + ", r_a " + str(c.ra) + ", r_b " + str(c.rb) + ", n " + str(c.n) + ", t1 " +
-           str(c.t1) + ", t2 " + str(c.t2) + ", K_n " + formatNumber(c.Kn) + ", K_t1 " + formatNumber(c.Kt1) +
-           ", K_t2 " + formatNumber(c.Kt2) + ", target " + formatNumber(c.target) + ", mu_s " +
+    return "\n  prepared: p " + str(c.p) + ", r_a " + str(c.ra) + ", r_b " + str(c.rb) + ", n " + str(c.n.d) + ", t1 " +
+           str(c.t1.d) + ", t2 " + str(c.t2.d) + ", K_n " + formatNumber(c.n.K) + ", K_t1 " + formatNumber(c.t1.K) +
+           ", K_t2 " + formatNumber(c.t2.K) + ", target " + formatNumber(c.target) + ", mu_s " +
            formatNumber(c.staticFriction) + ", mu_d " + formatNumber(c.friction);
 }
 
@@ -119,12 +120,12 @@ GRADED_TEST(Worksheet7, PreparedPointGeometry, 2,
                                  pointText(c) + touchText(t);
         const double tol = 100.0 * kRounding * (1.0 + p.norm() + t.a.position.norm() + t.b.position.norm());
         ASSERT_LE((c.p - p).norm(), tol) << "p is not the contact's point " << str(p) << what;
-        ASSERT_LE((c.n - n).norm(), kRounding) << "n is not the contact's normal " << str(n) << what;
+        ASSERT_LE((c.n.d - n).norm(), kRounding) << "n is not the contact's normal " << str(n) << what;
         ASSERT_LE((c.ra - (p - t.a.position)).norm(), tol) << "r_a must be p - x_a = " << str(p - t.a.position) << what;
         ASSERT_LE((c.rb - (p - t.b.position)).norm(), tol) << "r_b must be p - x_b = " << str(p - t.b.position) << what;
-        ASSERT_NEAR(c.t1.norm(), 1.0, kRounding) << "t1 must be a unit vector" << what;
-        ASSERT_NEAR(c.t2.norm(), 1.0, kRounding) << "t2 must be a unit vector" << what;
-        ASSERT_LE(std::abs(c.t1.dot(n)) + std::abs(c.t2.dot(n)) + std::abs(c.t1.dot(c.t2)), 3.0 * kRounding)
+        ASSERT_NEAR(c.t1.d.norm(), 1.0, kRounding) << "t1 must be a unit vector" << what;
+        ASSERT_NEAR(c.t2.d.norm(), 1.0, kRounding) << "t2 must be a unit vector" << what;
+        ASSERT_LE(std::abs(c.t1.d.dot(n)) + std::abs(c.t2.d.dot(n)) + std::abs(c.t1.d.dot(c.t2.d)), 3.0 * kRounding)
             << "t1, t2 and n must be perpendicular to each other" << what;
         ASSERT_EQ(c.staticFriction, t.contact.staticFriction) << "mu_s is the contact's" << what;
         ASSERT_EQ(c.friction, t.contact.friction) << "mu_d is the contact's" << what;
@@ -150,7 +151,7 @@ GRADED_TEST(Worksheet7, EffectiveMassOfBalls, 3,
             return K;
         };
         for (const auto& [name, K, d] :
-             {std::tuple{"K_n", c.Kn, c.n}, std::tuple{"K_t1", c.Kt1, c.t1}, std::tuple{"K_t2", c.Kt2, c.t2}}) {
+             {std::tuple{"K_n", c.n.K, c.n.d}, std::tuple{"K_t1", c.t1.K, c.t1.d}, std::tuple{"K_t2", c.t2.K, c.t2.d}}) {
             const double expected = closed(d);
             ASSERT_NEAR(K, expected, 1e-10 * expected)
                 << name << " along " << str(d)
@@ -173,14 +174,14 @@ GRADED_TEST(Worksheet7, EffectiveMassThroughCentres, 2,
         t.b.position = atCentres ? p : Vec3(p + rnd.uniform(0.1, 2.0) * n);
         const ContactPoint c = prepared(t);
         const double expected = t.a.invMass + t.b.invMass;  // 1/kg
-        ASSERT_NEAR(c.Kn, expected, 1e-10 * expected)
+        ASSERT_NEAR(c.n.K, expected, 1e-10 * expected)
             << "K_n of a push through both centres of mass must be 1/m_a + 1/m_b = " << expected << " 1/kg"
             << pointText(c) << touchText(t);
         if (!atCentres) continue;
-        ASSERT_NEAR(c.Kt1, expected, 1e-10 * expected)
+        ASSERT_NEAR(c.t1.K, expected, 1e-10 * expected)
             << "K_t1 at the centres of mass must be 1/m_a + 1/m_b = " << expected << " 1/kg" << pointText(c)
             << touchText(t);
-        ASSERT_NEAR(c.Kt2, expected, 1e-10 * expected)
+        ASSERT_NEAR(c.t2.K, expected, 1e-10 * expected)
             << "K_t2 at the centres of mass must be 1/m_a + 1/m_b = " << expected << " 1/kg" << pointText(c)
             << touchText(t);
     }
@@ -196,10 +197,54 @@ GRADED_TEST(Worksheet7, EffectiveMassOfTurnedBoxes, 2,
         const ContactPoint c = prepared(t);
         const Vec3& p = t.contact.points[0];
         for (const auto& [name, K, d] :
-             {std::tuple{"K_n", c.Kn, c.n}, std::tuple{"K_t1", c.Kt1, c.t1}, std::tuple{"K_t2", c.Kt2, c.t2}}) {
+             {std::tuple{"K_n", c.n.K, c.n.d}, std::tuple{"K_t1", c.t1.K, c.t1.d}, std::tuple{"K_t2", c.t2.K, c.t2.d}}) {
             const double expected = checks::inverseMassAlong(t.a, t.b, p, d);
             ASSERT_NEAR(K, expected, 1e-10 * expected)
                 << name << " along " << str(d) << ": expected " << expected << " 1/kg" << pointText(c) << touchText(t);
+        }
+    }
+}
+
+GRADED_TEST(Worksheet7, PreparedAxesMeasureAndTurnAsThePoint, 2,
+            "prepareContactPoint(): each axis n, t1, t2 (unit direction d) holds r_a x d and r_b x d, with which the "
+            "sweeps read the velocity of the material points at p along d, d . (v_b - v_a) + (r_b x d) . omega_b - "
+            "(r_a x d) . omega_a, and I_a^-1 (r_a x d), I_b^-1 (r_b x d) with the world inverse inertias invIa, invIb you "
+            "are given: how much a unit impulse along d at p turns each body (zero for a static body).") {
+    Random rnd(738);
+    for (int i = 0; i < 300; ++i) {
+        const Touch t = checks::randomTouch(rnd, i);
+        const ContactPoint c = prepared(t);
+        const Vec3& p = t.contact.points[0];
+        const Vec3 ra = p - t.a.position, rb = p - t.b.position;
+        const Mat3 invIa = checks::inverseWorldInertia(t.a), invIb = checks::inverseWorldInertia(t.b);
+        const Vec3 u = checks::relativeAt(t.a, t.b, p);  // m/s
+        for (const auto& [name, axis] : {std::pair{"n", &c.n}, std::pair{"t1", &c.t1}, std::pair{"t2", &c.t2}}) {
+            const Vec3& d = axis->d;
+            const std::string what = std::string("\n  axis ") + name + ": d " + str(d) + ", r_a x d " + str(axis->raXd) +
+                                     ", r_b x d " + str(axis->rbXd) + ", I_a^-1 (r_a x d) " + str(axis->invIaRaXd) +
+                                     ", I_b^-1 (r_b x d) " + str(axis->invIbRbXd) + pointText(c) + touchText(t);
+            ASSERT_NEAR(d.norm(), 1.0, kRounding) << "the axis's direction d must be a unit vector" << what;
+            if (axis == &c.n) {
+                ASSERT_LE((d - t.contact.normal).norm(), kRounding)
+                    << "the normal axis's d must be the contact's normal " << str(t.contact.normal) << what;
+            }
+            // Rounding of a few products of the lever arms, speeds and inverse inertias, relative to their size.
+            const double speed = 1.0 + t.a.velocity.norm() + t.b.velocity.norm() +
+                                 (ra.norm() + rb.norm()) * (t.a.angularVelocity.norm() + t.b.angularVelocity.norm());
+            const double along = d.dot(t.b.velocity - t.a.velocity) + axis->rbXd.dot(t.b.angularVelocity) -
+                                 axis->raXd.dot(t.a.angularVelocity);  // m/s
+            ASSERT_NEAR(along, u.dot(d), 1e-10 * speed)
+                << "the velocity along d read with the axis, d . (v_b - v_a) + (r_b x d) . omega_b - (r_a x d) . omega_a, "
+                   "must be that of the material points at p, u . d = "
+                << u.dot(d) << " m/s, not " << along << " m/s: r_a x d must be " << str(ra.cross(d)) << ", r_b x d "
+                << str(rb.cross(d)) << what;
+            for (const auto& [body, got, expected, scale] :
+                 {std::tuple{"a", axis->invIaRaXd, Vec3(invIa * ra.cross(d)), invIa.norm() * ra.norm()},
+                  std::tuple{"b", axis->invIbRbXd, Vec3(invIb * rb.cross(d)), invIb.norm() * rb.norm()}}) {
+                ASSERT_LE((got - expected).norm(), 1e-10 * (1.0 + scale))
+                    << "a unit impulse along d at p turns body " << body << " by I^-1 (r x d) = " << str(expected)
+                    << " rad/s (its world inverse inertia, given), not " << str(got) << what;
+            }
         }
     }
 }
@@ -308,7 +353,7 @@ GRADED_TEST(Worksheet7, NormalSumClampedNotTheStep, 3,
     for (int i = 0; i < 300; ++i) {
         Touch t = touchMoving(rnd, i, 1.0);
         t.sum.approach = -rnd.uniform(0.0, 0.9 * kRestingSpeed);
-        const double w = pointOf(t).Kn;  // 1/kg
+        const double w = pointOf(t).n.K;  // 1/kg
         const double vn = normalVelocity(t);
         // Earlier sweeps gave 0.3 to 3 times what the separation now takes back.
         t.sum.normal = rnd.uniform(0.3, 3.0) * vn / w;
@@ -367,7 +412,7 @@ GRADED_TEST(Worksheet7, TargetKeptInLaterSweeps, 2,
         ASSERT_NEAR(normalVelocity(t), target, tol)
             << "normal velocity after two sweeps; the point must leave at its target, " << target << " m/s"
             << touchText(before);
-        ASSERT_NEAR(t.sum.normal, first, tol / pointOf(t).Kn) << "the second sweep changed the sum from " << first
+        ASSERT_NEAR(t.sum.normal, first, tol / pointOf(t).n.K) << "the second sweep changed the sum from " << first
                                                               << " to " << t.sum.normal << " N s" << touchText(before);
     }
 }
@@ -385,7 +430,7 @@ GRADED_TEST(Worksheet7, FrictionStopsSlipOfBalls, 3,
         Touch t = ballsSlipping(rnd, i);
         t.sum.normal = 1e6;  // N s: far inside the cone
         const Vec3 slip = slipOf(t);
-        const double Kt = pointOf(t).Kt1;  // = K_t2 for balls
+        const double Kt = pointOf(t).t1.K;  // = K_t2 for balls
         const Touch before = t;
         frictionImpulse(t);
         const double tol = 100.0 * kRounding * speedScale(before);
@@ -413,7 +458,7 @@ GRADED_TEST(Worksheet7, SlidingFrictionIsMuDTimesNormal, 3,
         Touch t = ballsSlipping(rnd, i);
         const Vec3 slip = slipOf(t);
         const Vec3 dir = slip.normalized();
-        const double stop = slip.norm() / pointOf(t).Kt1;  // N s
+        const double stop = slip.norm() / pointOf(t).t1.K;  // N s
         t.sum.normal = rnd.uniform(0.05, 0.9) * stop / t.contact.staticFriction;
         const Touch before = t;
         frictionImpulse(t);
@@ -441,7 +486,7 @@ GRADED_TEST(Worksheet7, SlidingSumFromOldSumPlusStep, 2,
         Touch t = ballsSlipping(rnd, i);
         const Vec3 n = t.contact.normal;
         const Vec3 dir = slipOf(t).normalized();
-        const double stop = slipOf(t).norm() / pointOf(t).Kt1;  // N s
+        const double stop = slipOf(t).norm() / pointOf(t).t1.K;  // N s
         const Vec3 oldDir = rnd.perpendicular(n);
         if (oldDir.cross(dir).norm() < 0.3) continue;  // the old sum clearly not along the slip
         ++tried;
@@ -474,7 +519,7 @@ GRADED_TEST(Worksheet7, StaticFrictionHoldsUpToMuS, 2,
         Touch t = ballsSlipping(rnd, i);
         t.contact.friction = 0.3;
         t.contact.staticFriction = 0.6;
-        const double stop = slipOf(t).norm() / pointOf(t).Kt1;  // N s
+        const double stop = slipOf(t).norm() / pointOf(t).t1.K;  // N s
         t.sum.normal = stop / rnd.uniform(0.35, 0.55);          // mu_d lambda_n < stop < mu_s lambda_n
         const Touch before = t;
         frictionImpulse(t);

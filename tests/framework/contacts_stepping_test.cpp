@@ -325,14 +325,16 @@ TEST(Contacts, FrictionSweepsSkipOnlyPointsThatWouldNotChange) {
 TEST(Contacts, FrictionSweepsInHalvesOnTwoThreadsGiveTheSameStateAsOnOne) {
     // The heap cut in halves: solved at once on two threads, and one half after the other on one;
     // the second time with a first pass that starts every point (its approach measured, a normal
-    // sum of a tenth of m g h to warm start from).
+    // sum of a tenth of m g h to warm start from, a gap to close at every third contact).
     const LandedHeap heap = landedHeap(1000, 14);
     ASSERT_GE(heap.first.back(), ContactSweeps::kSplitFrom);
-    const ContactSweeps::Start start = [&heap](std::size_t c, const Body& a, const Body& b, PointImpulse* sums) {
+    const ContactSweeps::Start start = [&heap](std::size_t c, const Body& a, const Body& b, PointImpulse* sums,
+                                               double* closing) {
         const Contact& con = heap.contacts[c];
         for (int k = 0; k < con.pointCount; ++k) {
             sums[k].normal = 0.1 * 9.81 / 60.0;  // N s
             sums[k].approach = normalVelocityAt(con, a, b, con.points[k]);
+            closing[k] = c % 3 == 0 ? 0.05 : 0.0;  // m/s: every third contact still apart when its step began
         }
     };
     std::vector<Body> one, two;

@@ -117,8 +117,12 @@ void Writer::pointImpulse(const PointImpulse& p) {
 }
 
 void Writer::contactPoint(const ContactPoint& p) {
-    for (const Vec3* v : {&p.p, &p.ra, &p.rb, &p.n, &p.t1, &p.t2}) vec3(*v);
-    for (const double x : {p.Kn, p.Kt1, p.Kt2, p.target, p.staticFriction, p.friction}) number(x);
+    for (const Vec3* v : {&p.p, &p.ra, &p.rb}) vec3(*v);
+    for (const ContactAxis* axis : {&p.n, &p.t1, &p.t2}) {
+        for (const Vec3* v : {&axis->d, &axis->raXd, &axis->rbXd, &axis->invIaRaXd, &axis->invIbRbXd}) vec3(*v);
+        number(axis->K);
+    }
+    for (const double x : {p.target, p.staticFriction, p.friction}) number(x);
 }
 
 void Writer::distanceCorrection(const DistanceCorrection& c) {
@@ -270,8 +274,12 @@ PointImpulse Reader::pointImpulse() {
 
 ContactPoint Reader::contactPoint() {
     ContactPoint p;
-    for (Vec3* v : {&p.p, &p.ra, &p.rb, &p.n, &p.t1, &p.t2}) *v = vec3();
-    for (double* x : {&p.Kn, &p.Kt1, &p.Kt2, &p.target, &p.staticFriction, &p.friction}) *x = number();
+    for (Vec3* v : {&p.p, &p.ra, &p.rb}) *v = vec3();
+    for (ContactAxis* axis : {&p.n, &p.t1, &p.t2}) {
+        for (Vec3* v : {&axis->d, &axis->raXd, &axis->rbXd, &axis->invIaRaXd, &axis->invIbRbXd}) *v = vec3();
+        axis->K = number();
+    }
+    for (double* x : {&p.target, &p.staticFriction, &p.friction}) *x = number();
     return p;
 }
 

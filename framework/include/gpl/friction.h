@@ -82,21 +82,45 @@ struct PointImpulse {
     double approach = 0.0;
 };
 
+/// One direction d of a prepared contact point (its normal or a tangent): what the sweeps need to
+/// measure the point's velocity along d and to push along d, without a cross product or an inverse
+/// inertia of their own. With u the relative velocity of the two material points at p,
+///   u . d = d . (v_b - v_a) + (r_b x d) . omega_b - (r_a x d) . omega_a,
+/// and an impulse lambda d on b (-lambda d on a) changes omega_b by lambda I_b^-1 (r_b x d) and omega_a
+/// by -lambda I_a^-1 (r_a x d).
+struct ContactAxis {
+    Vec3 d = Vec3::Zero();          ///< the unit direction (world frame)
+    Vec3 raXd = Vec3::Zero();       ///< r_a x d (m)
+    Vec3 rbXd = Vec3::Zero();       ///< r_b x d (m)
+    Vec3 invIaRaXd = Vec3::Zero();  ///< I_a^-1 (r_a x d) (1/(kg m)), a's world inverse inertia
+    Vec3 invIbRbXd = Vec3::Zero();  ///< I_b^-1 (r_b x d) (1/(kg m)), b's world inverse inertia
+    double K = 0.0;                 ///< inverse effective mass along d, K(d) (1/kg)
+};
+
 /// A contact point as the sweeps read it, prepared once per step by prepareContactPoint(): what stays
 /// the same while the sweeps change the velocities.
 struct ContactPoint {
     Vec3 p = Vec3::Zero();        ///< the point (m, world frame)
     Vec3 ra = Vec3::Zero();       ///< lever arm of body a, p - x_a (m)
     Vec3 rb = Vec3::Zero();       ///< lever arm of body b, p - x_b (m)
-    Vec3 n = Vec3::UnitY();       ///< unit normal, from a towards b
-    Vec3 t1 = Vec3::UnitZ();      ///< unit tangent (tangentBasis(n))
-    Vec3 t2 = Vec3::UnitX();      ///< unit tangent n x t1: with t1 and n an orthonormal basis
-    double Kn = 0.0;              ///< inverse effective mass along n, K(n) (1/kg)
-    double Kt1 = 0.0, Kt2 = 0.0;  ///< inverse effective masses along t1 and t2 (1/kg)
-    double target = 0.0;          ///< normal velocity the point is to leave with (m/s, >= 0)
+    ContactAxis n;                ///< along the unit normal n.d, from a towards b; n.K is K_n
+    ContactAxis t1;               ///< along the unit tangent t1.d (tangentBasis(n.d)); t1.K is K_t1
+    ContactAxis t2;               ///< along the unit tangent t2.d = n.d x t1.d; t2.K is K_t2
+    /// Normal velocity the point is to leave with (m/s): >= 0 from prepareContactPoint(); negative
+    /// where the framework lets a resting point close a gap (mayCloseGap()).
+    double target = 0.0;
     double staticFriction = 0.0;  ///< the pair's mu_s
     double friction = 0.0;        ///< the pair's mu_d (<= mu_s)
 };
+
+/// A resting point (target 0) still apart when the step began, by a gap that `closing` (m/s, the gap
+/// over h) closes within the step: it may approach at up to that speed and no faster, so its target
+/// becomes -closing, and the step ends with the gap closed, not held open. Without it a body held by
+/// points within kKeepGap of touching rests above them, by up to kKeepGap + g h^2. The framework's,
+/// applied after prepareContactPoint(); a point that touches (closing <= 0) or bounces keeps its target.
+inline void mayCloseGap(ContactPoint& point, double closing) {
+    if (point.target == 0.0 && closing > 0.0) point.target = -closing;
+}
 
 /// Student hook (worksheet 7), solutions/prepare_contact_point.cpp: contact.points[k] prepared for
 /// the sweeps; invIa, invIb are worldInverseInertia() of a and b, approach the normal velocity at
@@ -136,8 +160,10 @@ public:
     /// from a second thread, and small scenes keep the plain order of their contacts.
     static constexpr std::size_t kSplitFrom = 512;
     /// Sets the sums of contact c's points, sums[0 .. pointCount), from its bodies a and b as a part
-    /// sees them (called on either thread).
-    using Start = std::function<void(std::size_t c, const Body& a, const Body& b, PointImpulse* sums)>;
+    /// sees them, and closing[k], the speed that closes point k's gap at the step's start within the
+    /// step (m/s; <= 0 where it touches; mayCloseGap()). Called on either thread.
+    using Start =
+        std::function<void(std::size_t c, const Body& a, const Body& b, PointImpulse* sums, double* closing)>;
 
     void run(const std::vector<Contact>& contacts, const std::vector<std::size_t>& first,
              const std::vector<Mat3>& invI, std::vector<Body>& bodies, std::vector<PointImpulse>& sums, int sweeps,
@@ -294,6 +320,7 @@ private:
     std::vector<PointImpulse> sums_;         ///< per contact point of this step
     std::vector<ContactPoint> points_;       ///< per contact point: prepared (a small stage's sweeps)
     std::vector<double> depths_;             ///< per contact point: its overlap (m)
+    double h_ = 0.0;                         ///< this step's time step (s)
     std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
     std::vector<char> flipped_;              ///< per contact: that entry has the pair in the other order
     /// Per contact: keepPoints()'s pairUp() of it, where it kept no point (paired_), for match().
@@ -314,8 +341,10 @@ private:
     /// The first pass (start, prepare, warm start) and the sweeps of a small stage: the plain loop
     /// (see step()).
     void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps);
-    /// Last step's sums of contact c's points, and their approach now.
-    void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums) const;
+    /// Last step's sums of contact c's points and their approach now; with `closing`, the speed that
+    /// closes each point's gap at the step's start within the step (mayCloseGap()).
+    void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums,
+               double* closing = nullptr) const;
     /// Keeps this step's sums, sorted by pair, for the next step (their points in two halves with
     /// `twoThreads`).
     void keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies,
