@@ -366,8 +366,10 @@ void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, c
         // Integration has moved the point by h times its approach: at the step's start its gap was
         // at least -depth - h approach, with the contact's depth (its deepest point's: a point's own
         // depth along the normal is not defined at a corner), which a normal velocity of -gap / h
-        // closes by the step's end.
-        if (closing != nullptr) closing[k] = -con.depth / h_ - sums[k].approach;
+        // closes by the step's end. Only against a static body: between two that move, a wedge
+        // (the top sphere of a tetrahedron) closing its gaps pushes the bodies below apart, step
+        // after step.
+        if (closing != nullptr) closing[k] = a.isStatic() || b.isStatic() ? -con.depth / h_ - sums[k].approach : 0.0;
     }
 }
 

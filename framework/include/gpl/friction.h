@@ -113,11 +113,12 @@ struct ContactPoint {
     double friction = 0.0;        ///< the pair's mu_d (<= mu_s)
 };
 
-/// A resting point (target 0) still apart when the step began, by a gap that `closing` (m/s, the gap
-/// over h) closes within the step: it may approach at up to that speed and no faster, so its target
-/// becomes -closing, and the step ends with the gap closed, not held open. Without it a body held by
-/// points within kKeepGap of touching rests above them, by up to kKeepGap + g h^2. The framework's,
-/// applied after prepareContactPoint(); a point that touches (closing <= 0) or bounces keeps its target.
+/// A resting point (target 0) on a static body, still apart when the step began by a gap that
+/// `closing` (m/s, the gap over h) closes within the step: it may approach at up to that speed and
+/// no faster, so its target becomes -closing, and the step ends with the gap closed, not held open.
+/// Without it a body held by points within kKeepGap of the floor rests above it, by up to
+/// kKeepGap + g h^2. The framework's, applied after prepareContactPoint(); a point that touches
+/// (closing <= 0), bounces, or lies between two movable bodies (closing 0) keeps its target.
 inline void mayCloseGap(ContactPoint& point, double closing) {
     if (point.target == 0.0 && closing > 0.0) point.target = -closing;
 }
