@@ -5,15 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <thread>
 
 #include "gpl/soft_constraints.h"
-#include "gpl/soft_sweeps.h"
 
 namespace gpl {
 namespace {
@@ -195,82 +192,26 @@ void SoftBodies::collectSelfPairs(const SoftMesh& mesh, double travel) {
 }
 
 void SoftBodies::project(double h, int iterations, const std::vector<Body>& bodies) {
-    // The second thread, if a mesh's halves are to be swept on it, woken to spin while this one prepares.
-    const auto cut = [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; };
-    const auto cutMeshes = std::count_if(meshes.begin(), meshes.end(), cut);
-    if (threads_ > 1 && cutMeshes > 0) second_.wake();
-    if (cutMeshes > 0) groupContacts();
-    // On two threads, a cut mesh's halves' contacts are pushed out right after their half's links.
-    struct HalfContacts {
-        SoftBodies& soft;
-        const std::vector<Body>& bodies;
-        double h;
-        int iterations;
-        std::size_t mesh;
-    } halfContacts{*this, bodies, h, iterations, 0};
-    // Part 0 or 1: the mesh's halves' contacts; 2: the rest's contacts in its second half.
-    const std::function<void(int)> pushHalfContacts = [&halfContacts](int part) {
-        SoftBodies& soft = halfContacts.soft;
-        const std::size_t group =
-            part < 2 ? 2 * halfContacts.mesh + static_cast<std::size_t>(part) : 2 * soft.meshes.size() + 1;
-        const std::size_t end =
-            group + 1 < soft.contactGroups_.size() ? soft.contactGroups_[group + 1] : soft.contacts.size();
-        soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group], end);
-    };
-    // One cut mesh and no self-collision pairs, on two threads: each half's sweeps overlap the rest
-    // of the sweep before (soft_sweeps.h), with the result of the loop below to the bit; each thread
-    // sets its half's multipliers to 0.
-    const bool overlapped = threads_ > 1 && cutMeshes == 1 && selfPairs.empty();
-    halfContacts.mesh = static_cast<std::size_t>(std::find_if(meshes.begin(), meshes.end(), cut) - meshes.begin());
-    std::size_t halvesBegin = links.size(), halvesEnd = links.size();
-    if (overlapped) {
-        const SoftMesh& mesh = meshes[halfContacts.mesh];
-        halvesBegin = mesh.firstLink;
-        halvesEnd = halvesBegin + mesh.firstHalfLinks + mesh.secondHalfLinks;
+    // A mesh cut in halves, on two threads: the same sweeps with its halves swept at once, with the
+    // result of the loop below to the bit (soft_sweeps.cpp).
+    const bool cutMesh =
+        std::any_of(meshes.begin(), meshes.end(), [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; });
+    if (threads_ > 1 && cutMesh) {
+        projectInHalves(h, iterations, bodies);
+        return;
     }
-    for (std::size_t k = 0; k < halvesBegin; ++k) links[k].lambda = 0.0;
-    for (std::size_t k = halvesEnd; k < links.size(); ++k) links[k].lambda = 0.0;
+    for (DistanceLink& link : links) link.lambda = 0.0;
     for (TetVolume& volume : volumes) volume.lambda = 0.0;
     for (ParticleContact& c : contacts) {
         c.pushed = false;
         c.depth = 0.0;
         c.friction = Vec3::Zero();
     }
-    if (overlapped) {
-        const std::function<void()> sweepRest = [&halfContacts] {
-            SoftBodies& soft = halfContacts.soft;
-            for (const SoftMesh& mesh : soft.meshes) {
-                const bool halves = &mesh == &soft.meshes[halfContacts.mesh];
-                soft.sweepMesh(mesh, mesh.firstLink + (halves ? mesh.firstHalfLinks + mesh.secondHalfLinks : 0),
-                               halfContacts.h, halfContacts.iterations);
-            }
-            const std::size_t rest = 2 * soft.meshes.size();
-            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[rest],
-                                 soft.contactGroups_[rest + 1]);
-        };
-        sweepOverlapped(meshes[halfContacts.mesh], links, p, w, h, iterations, second_, pushHalfContacts, sweepRest);
-        catchMissedContacts(bodies);
-        return;
-    }
     for (int iteration = 0; iteration < iterations; ++iteration) {
-        for (std::size_t m = 0; m < meshes.size(); ++m) {
-            const SoftMesh& mesh = meshes[m];
-            // A mesh cut in halves, on two threads: the halves' links swept at once (soft_sweeps.h),
-            // the same kernel on each, with the result of sweepMesh() to the bit, each followed by
-            // its contacts; then the rest.
-            std::uint32_t firstLink = mesh.firstLink;
-            if (threads_ > 1 && mesh.firstHalfLinks > 0) {
-                halfContacts.mesh = m;
-                sweepHalves(mesh, links, p, w, h, iterations, second_, pushHalfContacts);
-                firstLink += mesh.firstHalfLinks + mesh.secondHalfLinks;
-            }
-            sweepMesh(mesh, firstLink, h, iterations);
-        }
-        // Contacts last, so that no particle ends a sweep inside a body (on two threads, those of cut
-        // meshes' halves went with their links).
+        for (const SoftMesh& mesh : meshes) sweepMesh(mesh, mesh.firstLink, h, iterations);
         pushSelfPairs();
-        const std::size_t firstContact = threads_ > 1 && cutMeshes > 0 ? contactGroups_[2 * meshes.size()] : 0;
-        pushOutOfBodies(h, bodies, firstContact, contacts.size());
+        // Contacts last, so that no particle ends a sweep inside a body.
+        pushOutOfBodies(h, bodies, 0, contacts.size());
     }
     catchMissedContacts(bodies);
 }
@@ -353,29 +294,6 @@ Vec3 SoftBodies::pushedOut(const Body& body, const Vec3& q, double r) const {
             return projectParticleBox(q, r, body.position, body.orientation, body.halfExtents);
     }
     return q;
-}
-
-void SoftBodies::groupContacts() {
-    // Each contact's group: 2 m + half for mesh m's halves, 2 M for the rest, 2 M + 1 for the rest's
-    // in the second half of a cut mesh; then a counting sort.
-    for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 1;
-    const std::size_t rest = 2 * meshes.size();
-    const auto group = [this, rest](const ParticleContact& c) {
-        const std::uint32_t i = c.particle;
-        const SoftMesh& mesh = meshes[meshOf[i]];
-        if (mesh.firstHalfLinks == 0 || selfPaired_[i]) return rest;
-        const std::size_t half = i < halvesCut(mesh) ? 0 : 1;
-        return movedByRest_[i] ? rest + half : 2 * std::size_t{meshOf[i]} + half;
-    };
-    groupEnds_.assign(rest + 2, 0);
-    for (const ParticleContact& c : contacts) ++groupEnds_[group(c)];
-    contactGroups_.assign(rest + 2, 0);
-    for (std::size_t g = 0; g < rest + 1; ++g) contactGroups_[g + 1] = contactGroups_[g] + groupEnds_[g];
-    std::copy(contactGroups_.begin(), contactGroups_.end(), groupEnds_.begin());
-    grouped_.resize(contacts.size());
-    for (const ParticleContact& c : contacts) grouped_[groupEnds_[group(c)]++] = c;
-    contacts.swap(grouped_);
-    for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 0;
 }
 
 void SoftBodies::pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end) {

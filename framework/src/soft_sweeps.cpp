@@ -279,4 +279,107 @@ void markMovedByTheRest(const SoftMesh& mesh, const std::vector<DistanceLink>& l
         for (const std::uint32_t corner : volumes[k].v) moved[corner] = 1;
 }
 
+
+// SoftBodies::project() on two threads, where a mesh is cut in halves: the plain loop's sweeps with
+// each cut mesh's halves swept at once, and its contacts grouped so that each half's go with its
+// links (soft_sweeps.h). The result is the plain loop's to the bit.
+void SoftBodies::projectInHalves(double h, int iterations, const std::vector<Body>& bodies) {
+    // The second thread woken to spin while this one prepares.
+    second_.wake();
+    groupContacts();
+    const auto cut = [](const SoftMesh& mesh) { return mesh.firstHalfLinks > 0; };
+    const auto cutMeshes = std::count_if(meshes.begin(), meshes.end(), cut);
+    // A cut mesh's halves' contacts are pushed out right after their half's links.
+    struct HalfContacts {
+        SoftBodies& soft;
+        const std::vector<Body>& bodies;
+        double h;
+        int iterations;
+        std::size_t mesh;
+    } halfContacts{*this, bodies, h, iterations, 0};
+    // Part 0 or 1: the mesh's halves' contacts; 2: the rest's contacts in its second half.
+    const std::function<void(int)> pushHalfContacts = [&halfContacts](int part) {
+        SoftBodies& soft = halfContacts.soft;
+        const std::size_t group =
+            part < 2 ? 2 * halfContacts.mesh + static_cast<std::size_t>(part) : 2 * soft.meshes.size() + 1;
+        const std::size_t end =
+            group + 1 < soft.contactGroups_.size() ? soft.contactGroups_[group + 1] : soft.contacts.size();
+        soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[group], end);
+    };
+    // One cut mesh and no self-collision pairs: each half's sweeps overlap the rest of the sweep
+    // before (sweepOverlapped()); each thread sets its half's multipliers to 0.
+    const bool overlapped = cutMeshes == 1 && selfPairs.empty();
+    halfContacts.mesh = static_cast<std::size_t>(std::find_if(meshes.begin(), meshes.end(), cut) - meshes.begin());
+    std::size_t halvesBegin = links.size(), halvesEnd = links.size();
+    if (overlapped) {
+        const SoftMesh& mesh = meshes[halfContacts.mesh];
+        halvesBegin = mesh.firstLink;
+        halvesEnd = halvesBegin + mesh.firstHalfLinks + mesh.secondHalfLinks;
+    }
+    for (std::size_t k = 0; k < halvesBegin; ++k) links[k].lambda = 0.0;
+    for (std::size_t k = halvesEnd; k < links.size(); ++k) links[k].lambda = 0.0;
+    for (TetVolume& volume : volumes) volume.lambda = 0.0;
+    for (ParticleContact& c : contacts) {
+        c.pushed = false;
+        c.depth = 0.0;
+        c.friction = Vec3::Zero();
+    }
+    if (overlapped) {
+        const std::function<void()> sweepRest = [&halfContacts] {
+            SoftBodies& soft = halfContacts.soft;
+            for (const SoftMesh& mesh : soft.meshes) {
+                const bool halves = &mesh == &soft.meshes[halfContacts.mesh];
+                soft.sweepMesh(mesh, mesh.firstLink + (halves ? mesh.firstHalfLinks + mesh.secondHalfLinks : 0),
+                               halfContacts.h, halfContacts.iterations);
+            }
+            const std::size_t rest = 2 * soft.meshes.size();
+            soft.pushOutOfBodies(halfContacts.h, halfContacts.bodies, soft.contactGroups_[rest],
+                                 soft.contactGroups_[rest + 1]);
+        };
+        sweepOverlapped(meshes[halfContacts.mesh], links, p, w, h, iterations, second_, pushHalfContacts, sweepRest);
+        catchMissedContacts(bodies);
+        return;
+    }
+    for (int iteration = 0; iteration < iterations; ++iteration) {
+        for (std::size_t m = 0; m < meshes.size(); ++m) {
+            const SoftMesh& mesh = meshes[m];
+            // A cut mesh: its halves' links swept at once, each followed by its contacts; then the rest.
+            std::uint32_t firstLink = mesh.firstLink;
+            if (mesh.firstHalfLinks > 0) {
+                halfContacts.mesh = m;
+                sweepHalves(mesh, links, p, w, h, iterations, second_, pushHalfContacts);
+                firstLink += mesh.firstHalfLinks + mesh.secondHalfLinks;
+            }
+            sweepMesh(mesh, firstLink, h, iterations);
+        }
+        pushSelfPairs();
+        // The contacts that did not go with a half's links.
+        pushOutOfBodies(h, bodies, contactGroups_[2 * meshes.size()], contacts.size());
+    }
+    catchMissedContacts(bodies);
+}
+
+void SoftBodies::groupContacts() {
+    // Each contact's group: 2 m + half for mesh m's halves, 2 M for the rest, 2 M + 1 for the rest's
+    // in the second half of a cut mesh; then a counting sort.
+    for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 1;
+    const std::size_t rest = 2 * meshes.size();
+    const auto group = [this, rest](const ParticleContact& c) {
+        const std::uint32_t i = c.particle;
+        const SoftMesh& mesh = meshes[meshOf[i]];
+        if (mesh.firstHalfLinks == 0 || selfPaired_[i]) return rest;
+        const std::size_t half = i < halvesCut(mesh) ? 0 : 1;
+        return movedByRest_[i] ? rest + half : 2 * std::size_t{meshOf[i]} + half;
+    };
+    groupEnds_.assign(rest + 2, 0);
+    for (const ParticleContact& c : contacts) ++groupEnds_[group(c)];
+    contactGroups_.assign(rest + 2, 0);
+    for (std::size_t g = 0; g < rest + 1; ++g) contactGroups_[g + 1] = contactGroups_[g] + groupEnds_[g];
+    std::copy(contactGroups_.begin(), contactGroups_.end(), groupEnds_.begin());
+    grouped_.resize(contacts.size());
+    for (const ParticleContact& c : contacts) grouped_[groupEnds_[group(c)]++] = c;
+    contacts.swap(grouped_);
+    for (const auto& pair : selfPairs) selfPaired_[pair[0]] = selfPaired_[pair[1]] = 0;
+}
+
 }  // namespace gpl

@@ -283,6 +283,7 @@ private:
     std::vector<std::uint32_t> cellEntries_;  ///< particles sorted by cell
     std::vector<std::uint32_t> nearby_;       ///< one particle's neighbours while they are collected
     int threads_ = defaultThreads();
+    // For two threads only (projectInHalves(), soft_sweeps.cpp).
     SecondThread second_;  ///< sweeps a cut mesh's second half (threads_ 2)
     /// Per particle: a link or volume of a cut mesh's rest moves it (soft_sweeps.h), so its contacts
     /// wait for the rest; set as the meshes are built.
@@ -303,6 +304,8 @@ private:
     void pushSelfPairs();
     /// Contacts [begin, end) pushed out of their bodies, with friction.
     void pushOutOfBodies(double h, const std::vector<Body>& bodies, std::size_t begin, std::size_t end);
+    /// project() where a mesh is cut in halves and threads_ is 2 (soft_sweeps.cpp).
+    void projectInHalves(double h, int iterations, const std::vector<Body>& bodies);
     /// Groups the contacts by the halves of their particles (soft_sweeps.h) into contactGroups_.
     void groupContacts();
     Vec3 pushedOut(const Body& body, const Vec3& q, double r) const;

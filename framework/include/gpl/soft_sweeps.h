@@ -1,4 +1,5 @@
-// A large mesh's links in two halves and the rest, for two threads (SoftBodies::project()).
+// A large mesh's links in two halves and the rest, for two threads (SoftBodies::projectInHalves(),
+// which SoftBodies::project() hands a step to where a mesh is cut and it has two threads).
 //
 // A mesh of at least kHalvesFrom links is cut in two at its middle particle: a cloth's particles
 // are stored row by row and a soft body's layer by layer, so the cut runs across the mesh. In the
@@ -44,7 +45,7 @@ struct HalvesOrder {
 };
 HalvesOrder halvesOrder(const std::vector<DistanceLink>& links, std::uint32_t cut, std::size_t particles);
 
-/// SoftBodies::project() also groups the step's contacts: for each cut mesh in turn, those of its first
+/// SoftBodies::projectInHalves() also groups the step's contacts: for each cut mesh in turn, those of its first
 /// half's particles that may go with the half's links, then its second half's; then the rest: first
 /// those not in a cut mesh's second half, then those in one, each group in the order found. A
 /// particle's contacts may go with its half's links when nothing else of the sweep moves the particle
