@@ -5,6 +5,7 @@
 // (--busy); and the cost of integration alone against a bare loop over packed arrays.
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -112,10 +113,51 @@ void integrationAlone(std::size_t n, std::size_t steps, std::ostream& out) {
         << " ns per body and step\n";
 }
 
+// The time a cache line takes from one thread's core to the other's and back (ns): the two threads
+// hand a counter to each other through one line, each waiting for the other's write. Two threads
+// that share a stage's bodies pay it for every line the other wrote last; on a virtual machine it
+// changes with where the host places the two processors (on one core complex or on two).
+double roundTripNs() {
+    constexpr int kStop = -1;
+    alignas(64) std::atomic<int> turn{0};
+    // Each waits with a yield now and then, so that a machine whose other core is busy (or that has
+    // one) gives the trips a time slice and the measurement ends.
+    const auto waitFor = [&turn](int value) {
+        for (int spins = 1;; ++spins) {
+            const int now = turn.load(std::memory_order_acquire);
+            if (now == value || now == kStop) return;
+            if (spins % 4096 == 0) std::this_thread::yield();
+        }
+    };
+    std::thread other([&] {
+        for (int k = 0;; ++k) {
+            waitFor(2 * k + 1);
+            if (turn.load(std::memory_order_acquire) == kStop) return;
+            turn.store(2 * k + 2, std::memory_order_release);
+        }
+    });
+    // Trips for a tenth of a second at most, counted in blocks of a thousand.
+    const auto start = std::chrono::steady_clock::now();
+    int trips = 0;
+    double ns = 0.0;
+    while (trips < 100000 && ns < 1e8) {
+        for (int k = trips; k < trips + 1000; ++k) {
+            turn.store(2 * k + 1, std::memory_order_release);
+            waitFor(2 * k + 2);
+        }
+        trips += 1000;
+        ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count();
+    }
+    turn.store(kStop, std::memory_order_release);
+    other.join();
+    return ns / trips;
+}
+
 // What a second thread can give on this machine: two loops run one after the other on one thread,
 // then at once on two, for a loop bound by the latency of its arithmetic (a chain of square roots)
 // and one bound by the core's arithmetic units (eight independent multiply-add chains). Two
 // processors that are the two hardware threads of one core double the first and not the second.
+// Then what it costs to share data: a cache line's round trip between the two threads.
 void secondThreadGain(std::ostream& out) {
     const auto latency = [] {
         double s = 1.0;
@@ -145,7 +187,8 @@ void secondThreadGain(std::ostream& out) {
     };
     out << "\na second thread on this machine (two loops on one thread, then at once on two): "
         << fixed(gain(latency), 2) << "x as fast for a chain of square roots, " << fixed(gain(throughput), 2)
-        << "x for eight independent multiply-add chains\n";
+        << "x for eight independent multiply-add chains; a cache line from one thread to the other and back: "
+        << fixed(roundTripNs(), 0) << " ns\n";
 }
 
 // One busy process beside the run: a child of this program that spins on a core until it is killed,
