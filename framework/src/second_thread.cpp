@@ -283,10 +283,11 @@ void SecondThread::wake() {
     if (!shared_->alone(0) && shared_->started()) shared_->post(nullptr, false);
 }
 
-void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs) {
+void SecondThread::run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs,
+                       std::uint64_t handOvers) {
     // In a timed stage the Stage has chosen already (a stage on one thread passes no SecondThread);
     // the account of the hand-overs still sends the caller alone where they lose, as outside.
-    if (!use || shared_->alone(1) || !shared_->started()) {
+    if (!use || shared_->alone(handOvers) || !shared_->started()) {
         mine();
         theirs();
         return;

@@ -244,7 +244,8 @@ void sweepOverlapped(const SoftMesh& mesh, std::vector<DistanceLink>& links, std
     Overlap o{s, rest};
     const std::function<void()> first = [&o] { sweepFirstHalvesAndRest(o); };
     const std::function<void()> other = [&o] { sweepSecondHalves(o); };
-    second.run(true, first, other);
+    // The step's sweeps in one hand-over: it stands for one a sweep (sweepHalves()).
+    second.run(true, first, other, static_cast<std::uint64_t>(std::max(iterations, 1)));
 }
 
 void holdBackWaitingLinks(SoftMesh& mesh, std::vector<DistanceLink>& links, const std::vector<char>& moved) {

@@ -46,8 +46,12 @@ public:
     /// Runs mine() here and theirs() on the second thread (made on first use), and returns when
     /// both have. With `use` false, when no thread can be made, or while the machine gives the
     /// second thread no core, runs mine() and then theirs() here. An exception from theirs() is
-    /// thrown here once mine() has ended.
-    void run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs);
+    /// thrown here once mine() has ended. `handOvers`: how many hand-overs this one stands for in
+    /// the account's stays alone, which count hand-overs (a step's sweeps handed over at once count
+    /// as that many sweeps, so that a stay alone lasts as many steps as a stage's that hands over
+    /// once a sweep).
+    void run(bool use, const std::function<void()>& mine, const std::function<void()>& theirs,
+             std::uint64_t handOvers = 1);
     /// Whether run() hands theirs() to the second thread now; false without a thread, while the
     /// timed stages find one thread cheaper, and while the machine gives it no core. A stage may then
     /// take its one-thread path, whose result is the same.
