@@ -168,7 +168,6 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
     // The loops below that visit each contact or body once touch different data at each: a large
     // stage runs them in two halves (inHalves(), second_thread.h).
     SecondThread* const twoThreads = timed.second();  // null: this run of the stage is on one thread
-    h_ = h;
     keepPoints(bodies, contacts, twoThreads);
     // 1. Each body's velocities now and its world inverse inertia, once.
     before_.resize(bodies.size());
@@ -210,11 +209,11 @@ void FrictionStage::step(std::vector<Body>& bodies, std::vector<Contact>& contac
         }
         baumgarte_.run(bodies, invI_, contacts, first_, depths_, sums_, kContactSlop, h, sweeps);
     } else if (sums_.size() < ContactSweeps::kSplitFrom) {
-        sweep(bodies, contacts, sweeps);
+        sweep(bodies, contacts, sweeps, h);
     } else {
-        const ContactSweeps::Start begin = [this, &contacts](std::size_t c, const Body& a, const Body& b,
-                                                             PointImpulse* sums, double* closing) {
-            start(contacts, c, a, b, sums, closing);
+        const ContactSweeps::Start begin = [this, &contacts, h](std::size_t c, const Body& a, const Body& b,
+                                                                PointImpulse* sums, double* closing) {
+            start(contacts, c, a, b, sums, h, closing);
         };
         sweeps_.run(contacts, first_, invI_, bodies, sums_, sweeps, true, twoThreads, &begin);
         cut = &sweeps_.halves();
@@ -358,7 +357,7 @@ void FrictionStage::keepPoints(const std::vector<Body>& bodies, std::vector<Cont
 }
 
 void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b,
-                          PointImpulse* sums, double* closing) const {
+                          PointImpulse* sums, double h, double* closing) const {
     const Contact& con = contacts[c];
     memory_.match(remembered_[c], flipped_[c], con, a, b, sums, paired_[c] ? &pairings_[c] : nullptr);
     for (int k = 0; k < con.pointCount; ++k) {
@@ -369,18 +368,18 @@ void FrictionStage::start(const std::vector<Contact>& contacts, std::size_t c, c
         // closes by the step's end. Only against a static body: between two that move, a wedge
         // (the top sphere of a tetrahedron) closing its gaps pushes the bodies below apart, step
         // after step.
-        if (closing != nullptr) closing[k] = a.isStatic() || b.isStatic() ? -con.depth / h_ - sums[k].approach : 0.0;
+        if (closing != nullptr) closing[k] = a.isStatic() || b.isStatic() ? -con.depth / h - sums[k].approach : 0.0;
     }
 }
 
-void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps) {
+void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps, double h) {
     // Every point's approach is measured, and every point prepared, before any warm start: an
     // impulse at one point changes the velocities at the others.
     points_.resize(first_.back());
     std::array<double, kMaxContactPoints> closing;
     for (std::size_t c = 0; c < contacts.size(); ++c) {
         const Contact& con = contacts[c];
-        start(contacts, c, bodies[con.a], bodies[con.b], &sums_[first_[c]], closing.data());
+        start(contacts, c, bodies[con.a], bodies[con.b], &sums_[first_[c]], h, closing.data());
         for (int k = 0; k < con.pointCount; ++k) {
             ContactPoint& point = points_[first_[c] + k];
             point = prepareContactPoint(con, k, bodies[con.a], bodies[con.b], invI_[con.a], invI_[con.b],

@@ -321,7 +321,6 @@ private:
     std::vector<PointImpulse> sums_;         ///< per contact point of this step
     std::vector<ContactPoint> points_;       ///< per contact point: prepared (a small stage's sweeps)
     std::vector<double> depths_;             ///< per contact point: its overlap (m)
-    double h_ = 0.0;                         ///< this step's time step (s)
     std::vector<const ContactMemory::Entry*> remembered_;  ///< per contact: last step's entry of its pair, or nullptr
     std::vector<char> flipped_;              ///< per contact: that entry has the pair in the other order
     /// Per contact: keepPoints()'s pairUp() of it, where it kept no point (paired_), for match().
@@ -341,11 +340,11 @@ private:
     void keepPoints(const std::vector<Body>& bodies, std::vector<Contact>& contacts, SecondThread* twoThreads);
     /// The first pass (start, prepare, warm start) and the sweeps of a small stage: the plain loop
     /// (see step()).
-    void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps);
+    void sweep(std::vector<Body>& bodies, const std::vector<Contact>& contacts, int sweeps, double h);
     /// Last step's sums of contact c's points and their approach now; with `closing`, the speed that
-    /// closes each point's gap at the step's start within the step (mayCloseGap()).
+    /// closes each point's gap at the step's start within the step of h (s) (mayCloseGap()).
     void start(const std::vector<Contact>& contacts, std::size_t c, const Body& a, const Body& b, PointImpulse* sums,
-               double* closing = nullptr) const;
+               double h = 0.0, double* closing = nullptr) const;
     /// Keeps this step's sums, sorted by pair, for the next step (their points in two halves with
     /// `twoThreads`).
     void keep(const std::vector<Contact>& contacts, const std::vector<Body>& bodies,
