@@ -533,8 +533,9 @@ GRADED_TEST(Worksheet7, StaticFrictionHoldsUpToMuS, 2,
 GRADED_TEST(Worksheet7, FrictionSumClampedWithoutSlip, 2,
             "applyFrictionImpulse() at a point that no longer slips, after the normal sum shrank: the friction "
             "sum from earlier sweeps may now lie outside the cone, |J| > mu_s lambda_n, and must be clamped to "
-            "mu_d lambda_n (same direction) even though there is no slip to stop. Clamp the sum whether or not "
-            "the point slips.",
+            "mu_d lambda_n (same direction) even though there is no slip to stop; where lambda_n has shrunk to 0 "
+            "the cone is a point, and the whole sum goes back to the bodies. Clamp the sum whether or not the point "
+            "slips, and whatever lambda_n is.",
             grading::dependsOn("SlidingFrictionIsMuDTimesNormal")) {
     Random rnd(716);
     for (int i = 0; i < 200; ++i) {
@@ -545,16 +546,21 @@ GRADED_TEST(Worksheet7, FrictionSumClampedWithoutSlip, 2,
             b->angularVelocity = Vec3::Zero();
         }
         const Vec3 n = t.contact.normal;
-        t.sum.normal = rnd.uniform(0.1, 5.0);  // N s
         const Vec3 dir = rnd.perpendicular(n);
-        t.sum.tangent = rnd.uniform(1.2, 3.0) * t.contact.staticFriction * t.sum.normal * dir;  // outside the cone
+        // Every fourth point has lost its whole normal sum: its cone is the point 0.
+        const bool released = i % 4 == 0;
+        t.sum.normal = released ? 0.0 : rnd.uniform(0.1, 5.0);  // N s
+        t.sum.tangent = (released ? rnd.uniform(0.1, 2.0) : rnd.uniform(1.2, 3.0) * t.contact.staticFriction * t.sum.normal) *
+                        dir;  // N s, outside the cone
         const Touch before = t;
         frictionImpulse(t);
         const Vec3 expected = t.contact.friction * t.sum.normal * dir;  // N s
         const double tol = 100.0 * kRounding * (1.0 + before.sum.tangent.norm());
         ASSERT_LE((t.sum.tangent - expected).norm(), tol)
             << "the friction sum after the kernel is " << str(t.sum.tangent) << " N s; outside the cone it must become "
-            << "mu_d lambda_n along its own direction, " << str(expected) << " N s" << touchText(before);
+            << "mu_d lambda_n along its own direction, " << str(expected) << " N s"
+            << (released ? " (lambda_n = 0: no normal impulse holds the point, so no friction sum may stay)" : "")
+            << touchText(before);
         if (!t.b.isStatic()) {
             const Vec3 given = t.b.mass * (t.b.velocity - before.b.velocity);  // N s
             ASSERT_LE((given - (t.sum.tangent - before.sum.tangent)).norm(), tol * (1.0 + t.b.mass))
@@ -688,7 +694,9 @@ GRADED_TEST(Worksheet7, BlockSlidesDownSteepIncline, 3,
                                              << " s; expected g (sin - mu_d cos) t with mu_d = " << mud
                                              << (std::abs(v - g * (std::sin(slope) - mus * std::cos(slope)) * t) < a * h
                                                      ? " (this is mu_s, not mu_d)"
-                                                     : "");
+                                                     : v > a * t && v < 1.2 * a * t ? " (a little too little friction against the slip: are t1, t2 "
+                                                                   "tangentBasis(n)? Assignment 2 says why they must be)"
+                                                                 : "");
     }
 }
 
