@@ -530,7 +530,8 @@ GRADED_TEST(Worksheet9, XsphKeepsUniformFlow, 2,
 GRADED_TEST(Worksheet9, XsphHandsOverVelocity, 3,
             "xsphViscosity(): one neighbour of weight (m / rho_j) W(|x_i - x_j|, h) = 1 with c = 1 hands over its "
             "velocity exactly (v' = v_j), and with c < 1 moves v the share c of the way to v_j. The blend is added "
-            "once, each neighbour weighted by m / rho_j.",
+            "once, each neighbour weighted by m / rho_j; several neighbours' weighted differences add up (they are "
+            "not averaged, nor divided by the sum of their weights).",
             grading::dependsOn("Poly6CentreEdgeAndBeyond")) {
     Random rnd(942);
     const Fluid f;
@@ -545,6 +546,27 @@ GRADED_TEST(Worksheet9, XsphHandsOverVelocity, 3,
         ASSERT_LE((blended - expected).norm(), kRounding * (v.norm() + j.v.norm()))
             << "v' = " << str(blended) << "; expected v + c (v_j - v) = " << str(expected) << "\n  v " << str(v)
             << ", c " << c << ", rho_j = m W = " << j.density << fluidText(f) << neighboursText(x, {j});
+    }
+    for (int i = 0; i < 50; ++i) {
+        // Two to five neighbours, each of a weight (m / rho_j) W from 0.05 to 0.4.
+        const Vec3 x = rnd.inBox(1.0), v = rnd.inBox(2.0);
+        const double c = rnd.uniform(0.05, 1.0);
+        std::vector<FluidNeighbour> neighbours;
+        Vec3 expected = v, scale = v.cwiseAbs();
+        for (int k = 0, n = 2 + i % 4; k < n; ++k) {
+            FluidNeighbour j = checks::neighbourAt(x + f.h * rnd.uniform(0.05, 0.9) * rnd.direction());
+            j.v = rnd.inBox(2.0);
+            const double weight = rnd.uniform(0.05, 0.4);
+            j.density = f.mass() * poly6Kernel((x - j.x).norm(), f.h) / weight;  // kg/m^3
+            expected += c * weight * (j.v - v);
+            scale += j.v.cwiseAbs();
+            neighbours.push_back(j);
+        }
+        const Vec3 blended = xsphViscosity(x, v, neighbours, f.mass(), f.h, c);
+        ASSERT_LE((blended - expected).norm(), 10.0 * kRounding * scale.norm())
+            << "v' = " << str(blended) << "; expected v + c sum_j (m / rho_j) W (v_j - v) = " << str(expected)
+            << " with the weights (m / rho_j) W of " << neighbours.size() << " neighbours summing to less than 2\n  v "
+            << str(v) << ", c " << c << fluidText(f) << neighboursText(x, neighbours);
     }
 }
 
