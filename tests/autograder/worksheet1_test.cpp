@@ -229,14 +229,17 @@ GRADED_TEST(Worksheet1, UsesEngineTimeStep, 2,
 }
 
 GRADED_TEST(Worksheet1, MatchesDiscreteFreeFall, 3,
-            "After n steps semi-implicit Euler gives v_n = v0 + n h g and x_n = x0 + n h v0 + n(n+1)/2 h^2 g; "
-            "check that every step uses the same h and the new velocity.",
+            "After n steps semi-implicit Euler gives v_n = v0 + n h g and x_n = x0 + n h v0 + n(n+1)/2 h^2 g, at any "
+            "speed (a bullet at 670 m/s too); check that every step uses the same h and the new velocity, and that "
+            "nothing caps the speed.",
             grading::dependsOn("OneStepIsSemiImplicitEuler"), grading::dependsOn("UsesEngineTimeStep")) {
     const Vec3 x0(-10.0, 1.0, 0.0), v0(10.6, 10.6, 0.0);
     const double h = 0.004;
     const int n = 1000;
     engine.setTimeStep(h);
+    const Vec3 bullet0(600.0, 300.0, 0.0);  // m/s
     engine.add(sphere("projectile", 0.3, 0.5).at(x0).moving(v0));
+    engine.add(sphere("bullet", 0.01, 0.01).at(x0 + Vec3(0.0, 0.0, 5.0)).moving(bullet0));
     steps(n);
     const Vec3 g = engine.gravity();
     const Vec3 vn = v0 + n * h * g;
@@ -245,6 +248,10 @@ GRADED_TEST(Worksheet1, MatchesDiscreteFreeFall, 3,
     const double tol = 1e-10;
     EXPECT_CLOSE(engine.body("projectile").velocity, vn, tol, "velocity after 1000 steps");
     EXPECT_CLOSE(engine.body("projectile").position, xn, tol, "position after 1000 steps");
+    EXPECT_CLOSE(engine.body("bullet").velocity, Vec3(bullet0 + n * h * g), tol, "the bullet's velocity after 1000 steps");
+    EXPECT_CLOSE(engine.body("bullet").position,
+                 Vec3(x0 + Vec3(0.0, 0.0, 5.0) + n * h * bullet0 + 0.5 * n * (n + 1) * h * h * g), tol,
+                 "the bullet's position after 1000 steps");
 }
 
 GRADED_TEST(Worksheet1, EnergyNeverIncreases, 3,

@@ -134,7 +134,8 @@ protected:
 
 GRADED_TEST(Worksheet2, PositionVerletFirstStep, 2,
             "On the first step state.xPrev is empty: make up x_{-1} = x_0 - h v_0 + h^2/2 a_0 (a Taylor step back), "
-            "so that x_1 = x_0 + h v_0 + h^2/2 a_0; then store x_0 in xPrev (worksheet 2, eq. 5).") {
+            "so that x_1 = x_0 + h v_0 + h^2/2 a_0; then store x_0 in xPrev (worksheet 2, eq. 5). Start so "
+            "whenever xPrev's size differs from x's (a body was added or removed), not only when it is empty.") {
     const Vec3 x0(0.5, -0.2, 0.1), v0(1.0, 2.0, -0.5);
     const double h = 0.01;
     ParticleState s = start(x0, v0, spring);
@@ -151,6 +152,18 @@ GRADED_TEST(Worksheet2, PositionVerletFirstStep, 2,
     const double t = h;
     const Vec3 vExact = -kOmega * std::sin(kOmega * t) * x0 + std::cos(kOmega * t) * v0;
     EXPECT_LE((s.v[0] - vExact).norm(), 1e-3 * v0.norm()) << "v_1 is " << str(s.v[0]) << ", exactly " << str(vExact);
+    // Three particles whose xPrev still holds four from before a body was removed: a first step again.
+    ParticleState three = startState({x0, Vec3(1.0, 0.0, 0.0), Vec3(0.0, 0.0, 2.0)}, {v0, Vec3::Zero(), -v0}, spring);
+    three.xPrev.assign(4, Vec3(7.0, 7.0, 7.0));
+    const ParticleState before = three;
+    positionVerlet(three, spring, h);
+    ASSERT_EQ(three.xPrev.size(), 3u) << "xPrev held 4 positions for 3 particles: it must be started afresh";
+    for (std::size_t i = 0; i < 3; ++i) {
+        const Vec3 expected = before.x[i] + h * before.v[i] + 0.5 * h * h * before.a[i];
+        EXPECT_LE((three.x[i] - expected).norm(), 1e-13)
+            << "particle " << i << " of 3, with an xPrev of 4 positions left from an earlier scene: x_1 is "
+            << str(three.x[i]) << ", the first step's x_0 + h v_0 + h^2/2 a_0 is " << str(expected);
+    }
 }
 
 GRADED_TEST(Worksheet2, PositionVerletExactForFreeFall, 3,
@@ -280,8 +293,10 @@ GRADED_TEST(Worksheet2, VelocityVerletEnergyBounded, 3,
 }
 
 GRADED_TEST(Worksheet2, OneForceEvaluationPerStep, 2,
-            "Each step calls accel exactly once, at the new positions, and leaves state.a = a(x_{n+1}, v_{n+1}) for "
-            "the next step; never recompute a_n at the start of a step (it is in state.a already).") {
+            "Each step calls accel exactly once, for all particles at once at the new positions, and leaves "
+            "state.a = a(x_{n+1}, v_{n+1}) for the next step; never recompute a_n at the start of a step (it is in "
+            "state.a already). Move every particle with its own velocity: three particles of unequal masses joined "
+            "by springs keep their total momentum, as their forces are equal and opposite.") {
     for (Kernel kernel : {positionVerlet, velocityVerlet}) {
         const char* name = kernel == positionVerlet ? "positionVerlet()" : "velocityVerlet()";
         int calls = 0;
@@ -300,6 +315,47 @@ GRADED_TEST(Worksheet2, OneForceEvaluationPerStep, 2,
                 << name << ": after step " << i << " state.a is " << str(s.a[0]) << " but a(x) is " << str(a[0]);
         }
         EXPECT_EQ(calls, 10) << name << " evaluated the forces " << calls << " times in 10 steps";
+    }
+    // Masses 1, 3 and 2 kg in a row, joined by two springs of 40 N/m (rest length 0): the forces are
+    // pairwise, so sum m_i a_i = 0 at every state and both methods keep sum m_i v_i.
+    const std::vector<double> m{1.0, 3.0, 2.0};
+    const AccelerationFunction chain = [&m](const std::vector<Vec3>& x, const std::vector<Vec3>&, std::vector<Vec3>& a) {
+        const double k = 40.0;  // N/m
+        a.assign(x.size(), Vec3::Zero());
+        for (std::size_t i = 0; i + 1 < x.size(); ++i) {
+            const Vec3 force = -k * (x[i] - x[i + 1]);  // N, on i; its opposite on i + 1
+            a[i] += force / m[i];
+            a[i + 1] -= force / m[i + 1];
+        }
+    };
+    for (Kernel kernel : {positionVerlet, velocityVerlet}) {
+        const char* name = kernel == positionVerlet ? "positionVerlet()" : "velocityVerlet()";
+        int calls = 0;
+        const AccelerationFunction counted = [&](const std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                                                 std::vector<Vec3>& a) {
+            ++calls;
+            chain(x, v, a);
+        };
+        ParticleState s = startState({Vec3(0.0, 0.0, 0.0), Vec3(0.5, 0.2, 0.0), Vec3(1.0, -0.1, 0.3)},
+                                     {Vec3(1.0, 0.0, 0.0), Vec3(0.0, -1.0, 0.5), Vec3(-0.5, 2.0, 0.0)}, chain);
+        const auto momentum = [&m](const ParticleState& state) {
+            Vec3 p = Vec3::Zero();
+            for (std::size_t i = 0; i < m.size(); ++i) p += m[i] * state.v[i];
+            return p;
+        };
+        const Vec3 p0 = momentum(s);  // kg m/s
+        for (int i = 1; i <= 200; ++i) {
+            kernel(s, counted, 0.01);
+            // 200 steps of roundings on momenta of a few kg m/s (a velocity from position differences
+            // divides them by h): 1e-10 kg m/s allows any order of operations; a step that mixes old and new
+            // states for different particles is off by 1e-3 or more.
+            ASSERT_LE((momentum(s) - p0).norm(), 1e-10)
+                << name << ", three particles of 1, 3 and 2 kg joined by springs: after step " << i
+                << " the total momentum is " << str(momentum(s)) << " kg m/s, at the start " << str(p0)
+                << " (every particle moves with its own velocity, and all get the same step's accelerations)";
+        }
+        EXPECT_EQ(calls, 200) << name << " evaluated the forces of three particles " << calls
+                              << " times in 200 steps: once per step, for all particles at once";
     }
 }
 

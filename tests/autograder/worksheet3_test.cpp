@@ -149,13 +149,17 @@ GRADED_TEST(Worksheet3, SphereSphereApartOrTouching, 2,
         const std::optional<Contact> c = sphereSphere(a, b);
         ASSERT_FALSE(c) << "the spheres touch at one point, which is no contact, yet: " << str(c) << pairText(a, b)
                         << "\n  only depth > 0 is a contact";
-        // A micrometre-scale overlap (1e-6 of the radii) is a contact, far above rounding.
-        const double gap = 1e-6 * (a.radius + b.radius);
-        Body closer = b;
-        closer.position -= gap * (b.position - a.position).normalized();
-        const std::optional<Contact> d = sphereSphere(a, closer);
-        ASSERT_TRUE(d) << "the spheres overlap by " << gap << " m but there is no contact" << pairText(a, closer);
-        ASSERT_NEAR(d->depth, gap, kRounding * scaleOf(a, b)) << "depth of a tiny overlap" << pairText(a, closer);
+        // Overlaps of 1e-6 and 1e-9 of the radii are contacts: the smaller still 1e4 times the rounding of
+        // the centres' distance (1e-16 of positions up to 20 m), and no tolerance of a student's may drop it.
+        for (const double share : {1e-6, 1e-9}) {
+            const double gap = share * (a.radius + b.radius);
+            Body closer = b;
+            closer.position -= gap * (b.position - a.position).normalized();
+            const std::optional<Contact> d = sphereSphere(a, closer);
+            ASSERT_TRUE(d) << "the spheres overlap by " << gap << " m but there is no contact" << pairText(a, closer)
+                           << "\n  any overlap, however small, is a contact: compare the depth with 0, not a tolerance";
+            ASSERT_NEAR(d->depth, gap, kRounding * scaleOf(a, b)) << "depth of a tiny overlap" << pairText(a, closer);
+        }
     }
 }
 
@@ -292,10 +296,13 @@ GRADED_TEST(Worksheet3, SpherePlaneApartOrTouching, 2,
         const std::optional<Contact> c = spherePlane(s, p);
         ASSERT_FALSE(c) << "the sphere touches the plane at one point, which is no contact, yet: " << str(c)
                         << planeText(s, p) << "\n  only depth > 0 is a contact";
-        // 1e-6 of the radius into the plane: a contact, far above rounding.
-        Body closer = s;
-        closer.position -= 1e-6 * s.radius * checks::worldNormal(p);
-        ASSERT_TRUE(matchesPlane(spherePlane(closer, p), closer, p)) << "\n  (a tiny overlap)";
+        // 1e-6 and 1e-9 of the radius into the plane: contacts, the smaller still far above rounding.
+        for (const double share : {1e-6, 1e-9}) {
+            Body closer = s;
+            closer.position -= share * s.radius * checks::worldNormal(p);
+            ASSERT_TRUE(matchesPlane(spherePlane(closer, p), closer, p))
+                << "\n  (an overlap of " << share * s.radius << " m: any overlap, however small, is a contact)";
+        }
     }
 }
 
