@@ -33,6 +33,26 @@ Body randomBox(Random& rnd, const std::string& name) {
     return box(name, half, rnd.uniform(0.1, 10.0)).at(rnd.inBox(10.0)).rotated(rnd.rotation());
 }
 
+// A depth (m) between 1e-6 and 1e-3 m, log-uniform: overlaps smaller than a step's sinking under
+// gravity, far above rounding, which no tolerance in a kernel may drop.
+double shallow(Random& rnd) { return std::exp(rnd.uniform(std::log(1e-6), std::log(1e-3))); }
+
+// The same box with its axes named anew: body axis i becomes axis (i + shift) % 3, the half extents
+// and the orientation with it, so that the box in the world is the same.
+Body relabelled(const Body& b, int shift) {
+    if (shift % 3 == 0) return b;
+    Mat3 cycle = Mat3::Zero();  // e_i -> e_{(i + shift) % 3}: a proper rotation
+    Vec3 half;
+    for (int i = 0; i < 3; ++i) {
+        cycle((i + shift) % 3, i) = 1.0;
+        half[(i + shift) % 3] = b.halfExtents[i];
+    }
+    Body r = box(b.name, half, b.mass).at(b.position).rotated((b.orientation * Quat(cycle.transpose())).normalized());
+    r.velocity = b.velocity;
+    r.angularVelocity = b.angularVelocity;
+    return r;
+}
+
 // The box's axis k (unit, world frame).
 Vec3 axis(const Body& box, int k) { return box.orientation * Vec3::Unit(k); }
 
@@ -166,7 +186,9 @@ GRADED_TEST(Worksheet5, SphereBoxApartOrTouching, 2,
         }
         const double r = rnd.uniform(0.1, 1.0);
         const bool apart = i % 4 != 0;  // every fourth sphere reaches the box: that one must touch
-        const Body ball = sphereNear(bx, local, out, r * (apart ? rnd.uniform(1.001, 3.0) : rnd.uniform(0.05, 0.95)), r);
+        // Half of those only by a shallow overlap.
+        const double reach = i % 8 == 0 ? r - shallow(rnd) : r * rnd.uniform(0.05, 0.95);
+        const Body ball = sphereNear(bx, local, out, apart ? r * rnd.uniform(1.001, 3.0) : reach, r);
         const std::optional<Contact> c = sphereBox(ball, bx);
         if (apart) {
             ASSERT_FALSE(c) << "the sphere does not reach the box, yet: " << str(c) << pairText(ball, bx);
@@ -317,7 +339,8 @@ GRADED_TEST(Worksheet5, BoxPlaneApartOrTouching, 2,
         double lowest = INFINITY;
         for (const Vec3& x : corners(bx)) lowest = std::min(lowest, n.dot(x - bx.position));
         const bool apart = i % 4 != 0;  // every fourth box reaches a little behind the plane: that one touches
-        pl.at(bx.position + (lowest + (apart ? -rnd.uniform(0.001, 2.0) : rnd.uniform(0.001, 0.1))) * n);
+        const double behind = i % 8 == 0 ? shallow(rnd) : rnd.uniform(0.001, 0.1);  // m, half of them shallow
+        pl.at(bx.position + (lowest + (apart ? -rnd.uniform(0.001, 2.0) : behind)) * n);
         const std::optional<Contact> c = boxPlane(bx, pl);
         if (apart) {
             ASSERT_FALSE(c) << "every corner is in front of the plane, yet: " << str(c) << pairText(bx, pl);
@@ -434,7 +457,9 @@ struct Crossing {
     Vec3 cross;  // where the two edges cross, on a's edge (m)
 };
 
-Crossing crossingEdges(Random& rnd, double gap) {
+// With shiftA, shiftB the boxes' axes named anew (relabelled()), so that the separating axis is any
+// of the nine cross products a_i x b_j.
+Crossing crossingEdges(Random& rnd, double gap, int shiftA = 0, int shiftB = 0) {
     const double sa = rnd.uniform(0.3, 1.5), sb = rnd.uniform(0.3, 1.5);  // half extents across the edges
     const Quat R = rnd.rotation();
     const Vec3 t = rnd.inBox(10.0);
@@ -443,7 +468,8 @@ Crossing crossingEdges(Random& rnd, double gap) {
     Body b = box("b", {sb, sb, rnd.uniform(0.5, 2.0)}, 1.0).rotated(Quat(Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ())));
     a.at({ca, 0.0, 0.0});
     b.at({0.0, std::sqrt(2.0) * (sa + sb) + gap, cb});
-    return {checks::carried(a, R, t), checks::carried(b, R, t), R * Vec3::UnitY(), R * Vec3(0.0, std::sqrt(2.0) * sa, 0.0) + t};
+    return {relabelled(checks::carried(a, R, t), shiftA), relabelled(checks::carried(b, R, t), shiftB), R * Vec3::UnitY(),
+            R * Vec3(0.0, std::sqrt(2.0) * sa, 0.0) + t};
 }
 
 // ---- Which four points: the overlap of two faces turned against each other -----------------------
@@ -557,7 +583,7 @@ GRADED_TEST(Worksheet5, BoxBoxEdgeEdge, 3,
     Random rnd(523);
     for (int i = 0; i < 300; ++i) {
         const double depth = rnd.uniform(0.001, 0.1);
-        const Crossing x = crossingEdges(rnd, -depth);
+        const Crossing x = crossingEdges(rnd, -depth, i % 3, i / 3 % 3);
         const std::optional<Contact> c = boxBox(x.a, x.b);
         const double tol = kRounding * scaleOf(x.a, x.b);
         ASSERT_TRUE(c) << "no contact, but b's edge is " << depth << " m into a's" << pairText(x.a, x.b);
@@ -577,7 +603,9 @@ GRADED_TEST(Worksheet5, BoxBoxEdgeEdge, 3,
 GRADED_TEST(Worksheet5, BoxBoxCorner, 2,
             "boxBox() for a corner of b poking into a face of a: the face's normal is the axis of least overlap, the "
             "depth is how far the corner is in, and the only point is at the corner (clipping b's facing face keeps "
-            "only the corner behind a's face).") {
+            "only the corner behind a's face). The same with the boxes passed the other way round (the reference "
+            "face is then the second box's), and for an edge of b lying across a's face: the edge's two ends (the "
+            "incident face is b's face most against the normal, whatever its axis).") {
     Random rnd(524);
     for (int i = 0; i < 300; ++i) {
         const Body a = randomBox(rnd, "a");
@@ -604,6 +632,58 @@ GRADED_TEST(Worksheet5, BoxBoxCorner, 2,
                 << "point " << p << ", " << str(c->points[p]) << ", is not between the corner " << str(tip)
                 << " and a's face" << pairText(a, b);
         }
+        // Passed the other way round: a's face is now the second box's, and the normal points from b to a.
+        const std::optional<Contact> r = boxBox(b, a);
+        ASSERT_TRUE(r) << "boxBox(b, a): no contact, but b's corner is " << depth << " m into a's face" << pairText(b, a);
+        ASSERT_TRUE(normalIs(*r, -up, tol)) << " (boxBox(b, a): minus a's face normal)" << pairText(b, a);
+        ASSERT_NEAR(r->depth, depth, tol) << "boxBox(b, a): depth of the corner" << pairText(b, a);
+        for (int p = 0; p < r->pointCount; ++p) {
+            const Vec3 off = r->points[p] - tip;
+            const double along = off.dot(up);
+            ASSERT_TRUE((off - along * up).norm() <= tol && along >= -tol && along <= depth + tol)
+                << "boxBox(b, a): point " << p << ", " << str(r->points[p]) << ", is not between b's corner " << str(tip)
+                << " and a's face: when the second box's face is the reference face, clip against that face"
+                << pairText(b, a);
+        }
+    }
+    // An edge of b across a's face k: b's axis k along a's axis u, its other two axes at 45 degrees to
+    // the face, so that the edge (-, -) lies lowest; the edge shorter than the face and within it.
+    for (int i = 0; i < 90; ++i) {
+        const Body a = randomBox(rnd, "a");
+        const int k = i % 3, u = (k + 1) % 3, v = (k + 2) % 3;
+        const Vec3 up = axis(a, k), along = axis(a, u), across = axis(a, v);
+        Mat3 turn;  // columns: b's axes k, k + 1, k + 2 in the world
+        turn.col(k) = along;
+        turn.col(u) = (up + across) / std::sqrt(2.0);
+        turn.col(v) = (up - across) / std::sqrt(2.0);
+        Vec3 half;
+        half[k] = rnd.uniform(0.1, 0.4) * a.halfExtents[u];
+        half[u] = rnd.uniform(0.2, 1.0);
+        half[v] = rnd.uniform(0.2, 1.0);
+        Body b = box("b", half, 1.0).rotated(Quat(turn).normalized());
+        const double depth = rnd.uniform(0.001, 0.05) * std::min(half[u], half[v]);
+        const double at = rnd.uniform(-0.5, 0.5) * (a.halfExtents[u] - half[k]);  // the edge's middle along u (m)
+        const Vec3 middle =
+            a.position + (a.halfExtents[k] - depth) * up + at * along + rnd.uniform(-0.5, 0.5) * a.halfExtents[v] * across;
+        b.position = middle + (half[u] + half[v]) / std::sqrt(2.0) * up + (half[u] - half[v]) / std::sqrt(2.0) * across;
+        const std::optional<Contact> c = boxBox(a, b);
+        const double tol = 1e-9 * scaleOf(a, b);  // the turn's rounding and the clipping's divisions
+        ASSERT_TRUE(c) << "no contact, but b's edge lies " << depth << " m into a's face" << pairText(a, b);
+        ASSERT_TRUE(normalIs(*c, up, tol)) << " (a's face normal, b's edge on it)" << pairText(a, b);
+        ASSERT_NEAR(c->depth, depth, tol) << "depth of b's edge" << pairText(a, b);
+        ASSERT_EQ(c->pointCount, 2) << "b's edge lies across a's face: its two ends are the points" << pairText(a, b)
+                                    << "\n  " << str(c);
+        double lo = INFINITY, hi = -INFINITY;  // the points' places along the edge (m from its middle)
+        for (int p = 0; p < 2; ++p) {
+            const Vec3 off = c->points[p] - middle;
+            const double t = off.dot(along), h = off.dot(up);
+            ASSERT_TRUE((off - t * along - h * up).norm() <= tol && h >= -tol && h <= depth + tol)
+                << "point " << p << ", " << str(c->points[p]) << ", is not between b's edge and a's face" << pairText(a, b);
+            lo = std::min(lo, t);
+            hi = std::max(hi, t);
+        }
+        ASSERT_NEAR(lo, -half[k], tol) << "the points are not at the two ends of b's edge" << pairText(a, b);
+        ASSERT_NEAR(hi, half[k], tol) << "the points are not at the two ends of b's edge" << pairText(a, b);
     }
 }
 
@@ -617,7 +697,8 @@ GRADED_TEST(Worksheet5, BoxBoxApartOrTouching, 2,
         const int k = i % 3;
         const Vec3 halfB(rnd.uniform(0.2, 2.0), rnd.uniform(0.2, 2.0), rnd.uniform(0.2, 2.0));
         const bool apart = i % 4 != 0;  // every fourth b stands a little into a: that one must touch
-        const double depth = apart ? -rnd.uniform(0.001, 0.5) : rnd.uniform(0.001, 0.1) * std::min(a.halfExtents[k], halfB[k]);
+        const double into = i % 8 == 0 ? shallow(rnd) : rnd.uniform(0.001, 0.1) * std::min(a.halfExtents[k], halfB[k]);
+        const double depth = apart ? -rnd.uniform(0.001, 0.5) : into;
         const Body b = standingOn(a, k, 1.0, halfB, depth, rnd.uniform(0.0, 2.0 * M_PI), rnd.uniform(-0.5, 0.5),
                                   rnd.uniform(-0.5, 0.5));
         const std::optional<Contact> c = boxBox(a, b);
@@ -640,12 +721,12 @@ GRADED_TEST(Worksheet5, BoxBoxApartOrTouching, 2,
 
 GRADED_TEST(Worksheet5, BoxBoxSeparatedAlongEdges, 2,
             "boxBox() for two turned boxes whose edges cross with a gap: every face axis overlaps (their bounding "
-            "boxes do too), and only the cross product of the two edges separates them. Without the nine edge axes "
-            "they would count as touching.") {
+            "boxes do too), and only the cross product of the two edges separates them, whichever of the nine a_i x "
+            "b_j it is. Without all nine edge axes they would count as touching.") {
     Random rnd(526);
     for (int i = 0; i < 300; ++i) {
         const bool apart = i % 4 != 0;  // every fourth pair crosses a little into each other: that one touches
-        const Crossing x = crossingEdges(rnd, apart ? rnd.uniform(0.001, 0.1) : -rnd.uniform(0.001, 0.1));
+        const Crossing x = crossingEdges(rnd, apart ? rnd.uniform(0.001, 0.1) : -rnd.uniform(0.001, 0.1), i % 3, i / 3 % 3);
         const std::optional<Contact> c = boxBox(x.a, x.b);
         if (apart) {
             ASSERT_FALSE(c) << "the edges cross with a gap between them, yet: " << str(c) << pairText(x.a, x.b);
