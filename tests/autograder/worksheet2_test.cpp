@@ -39,6 +39,16 @@ void nonlinear(const std::vector<Vec3>& x, const std::vector<Vec3>&, std::vector
     for (std::size_t i = 0; i < x.size(); ++i) a[i] = -x[i].array().sin().matrix();
 }
 
+const char* kernelName(Kernel kernel) { return kernel == positionVerlet ? "positionVerlet()" : "velocityVerlet()"; }
+
+// `accel`, counting its calls in `calls`.
+AccelerationFunction counting(const AccelerationFunction& accel, int& calls) {
+    return [accel, &calls](const std::vector<Vec3>& x, const std::vector<Vec3>& v, std::vector<Vec3>& a) {
+        ++calls;
+        accel(x, v, a);
+    };
+}
+
 double oscillatorEnergy(const ParticleState& s) {
     return 0.5 * s.v[0].squaredNorm() + 0.5 * kOmega * kOmega * s.x[0].squaredNorm();
 }
@@ -298,13 +308,9 @@ GRADED_TEST(Worksheet2, OneForceEvaluationPerStep, 2,
             "state.a already). Move every particle with its own velocity: three particles of unequal masses joined "
             "by springs keep their total momentum, as their forces are equal and opposite.") {
     for (Kernel kernel : {positionVerlet, velocityVerlet}) {
-        const char* name = kernel == positionVerlet ? "positionVerlet()" : "velocityVerlet()";
+        const char* name = kernelName(kernel);
         int calls = 0;
-        const AccelerationFunction counted = [&](const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                                 std::vector<Vec3>& a) {
-            ++calls;
-            spring(x, v, a);
-        };
+        const AccelerationFunction counted = counting(spring, calls);
         ParticleState s = start(Vec3(1.0, 0.0, 0.0), Vec3(0.0, 1.0, 0.0), spring);
         for (int i = 1; i <= 10; ++i) {
             kernel(s, counted, 0.05);
@@ -329,13 +335,9 @@ GRADED_TEST(Worksheet2, OneForceEvaluationPerStep, 2,
         }
     };
     for (Kernel kernel : {positionVerlet, velocityVerlet}) {
-        const char* name = kernel == positionVerlet ? "positionVerlet()" : "velocityVerlet()";
+        const char* name = kernelName(kernel);
         int calls = 0;
-        const AccelerationFunction counted = [&](const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                                                 std::vector<Vec3>& a) {
-            ++calls;
-            chain(x, v, a);
-        };
+        const AccelerationFunction counted = counting(chain, calls);
         ParticleState s = startState({Vec3(0.0, 0.0, 0.0), Vec3(0.5, 0.2, 0.0), Vec3(1.0, -0.1, 0.3)},
                                      {Vec3(1.0, 0.0, 0.0), Vec3(0.0, -1.0, 0.5), Vec3(-0.5, 2.0, 0.0)}, chain);
         const auto momentum = [&m](const ParticleState& state) {

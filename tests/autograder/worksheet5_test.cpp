@@ -600,6 +600,19 @@ GRADED_TEST(Worksheet5, BoxBoxEdgeEdge, 3,
     }
 }
 
+// Every point of the contact on the segment from the corner `tip` a depth (m) along `up`, to `tol`.
+::testing::AssertionResult pointsBetween(const Contact& c, const Vec3& tip, const Vec3& up, double depth, double tol) {
+    for (int p = 0; p < c.pointCount; ++p) {
+        const Vec3 off = c.points[p] - tip;
+        const double along = off.dot(up);
+        if (!((off - along * up).norm() <= tol && along >= -tol && along <= depth + tol)) {
+            return ::testing::AssertionFailure() << "point " << p << ", " << str(c.points[p])
+                                                 << ", is not between the corner " << str(tip) << " and a's face";
+        }
+    }
+    return ::testing::AssertionSuccess();
+}
+
 GRADED_TEST(Worksheet5, BoxBoxCorner, 2,
             "boxBox() for a corner of b poking into a face of a: the face's normal is the axis of least overlap, the "
             "depth is how far the corner is in, and the only point is at the corner (clipping b's facing face keeps "
@@ -625,26 +638,14 @@ GRADED_TEST(Worksheet5, BoxBoxCorner, 2,
         ASSERT_TRUE(c) << "no contact, but b's corner is " << depth << " m into a's face" << pairText(a, b);
         ASSERT_TRUE(normalIs(*c, up, tol)) << " (a's face normal)" << pairText(a, b);
         ASSERT_NEAR(c->depth, depth, tol) << "depth of the corner" << pairText(a, b);
-        for (int p = 0; p < c->pointCount; ++p) {
-            const Vec3 off = c->points[p] - tip;
-            const double along = off.dot(up);
-            ASSERT_TRUE((off - along * up).norm() <= tol && along >= -tol && along <= depth + tol)
-                << "point " << p << ", " << str(c->points[p]) << ", is not between the corner " << str(tip)
-                << " and a's face" << pairText(a, b);
-        }
+        ASSERT_TRUE(pointsBetween(*c, tip, up, depth, tol)) << pairText(a, b);
         // Passed the other way round: a's face is now the second box's, and the normal points from b to a.
         const std::optional<Contact> r = boxBox(b, a);
         ASSERT_TRUE(r) << "boxBox(b, a): no contact, but b's corner is " << depth << " m into a's face" << pairText(b, a);
         ASSERT_TRUE(normalIs(*r, -up, tol)) << " (boxBox(b, a): minus a's face normal)" << pairText(b, a);
         ASSERT_NEAR(r->depth, depth, tol) << "boxBox(b, a): depth of the corner" << pairText(b, a);
-        for (int p = 0; p < r->pointCount; ++p) {
-            const Vec3 off = r->points[p] - tip;
-            const double along = off.dot(up);
-            ASSERT_TRUE((off - along * up).norm() <= tol && along >= -tol && along <= depth + tol)
-                << "boxBox(b, a): point " << p << ", " << str(r->points[p]) << ", is not between b's corner " << str(tip)
-                << " and a's face: when the second box's face is the reference face, clip against that face"
-                << pairText(b, a);
-        }
+        ASSERT_TRUE(pointsBetween(*r, tip, up, depth, tol))
+            << " (boxBox(b, a): when the second box's face is the reference face, clip against that face)" << pairText(b, a);
     }
     // An edge of b across a's face k: b's axis k along a's axis u, its other two axes at 45 degrees to
     // the face, so that the edge (-, -) lies lowest; the edge shorter than the face and within it.
