@@ -215,6 +215,16 @@ void integratorSteps(IntegratorKernel kernel, ParticleState& state, const Linear
                 throw ProtocolError("the kernel answered with another number of particles");
             }
             state = std::move(next);
+            // A NaN slips through any check written as "fail when x > tol": a non-finite state fails here,
+            // before the test's checks see it.
+            const auto finite = [](const std::vector<Vec3>& xs) {
+                return std::all_of(xs.begin(), xs.end(), [](const Vec3& x) { return x.allFinite(); });
+            };
+            if (!finite(state.x) || !finite(state.v) || !finite(state.a) || !finite(state.xPrev)) {
+                ADD_FAILURE() << "step " << k + 1 << ": the kernel answered a position, velocity or acceleration that "
+                              << "is not a finite number";
+                return false;
+            }
             each(++k);
             return !::testing::Test::HasFailure();
         });
@@ -236,6 +246,11 @@ void rotationSteps(Body& body, double h, int n, const std::function<void(int)>& 
         Reader r(answer, 1);
         const bool whole = readSteps(Call::RotationSteps, r, asked, [&] {
             EngineAccess::readMotion(r, body);
+            if (!body.orientation.coeffs().allFinite() || !body.angularVelocity.allFinite()) {
+                ADD_FAILURE() << "step " << k + 1 << ": the kernel answered an orientation or angular velocity that is "
+                              << "not a finite number";
+                return false;
+            }
             each(++k);
             return !::testing::Test::HasFailure();
         });
