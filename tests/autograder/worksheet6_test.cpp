@@ -72,10 +72,14 @@ GRADED_TEST(Worksheet6, WorldInertiaOfTurnedBox, 2,
 GRADED_TEST(Worksheet6, WorldInertiaIsRotatedTensor, 3,
             "worldInverseInertia() for any orientation: the result is symmetric, is the inverse of the world inertia "
             "tensor R I R^T, and turns each world axis R e_i of the box by 1/I_i. Use the rotation matrix R of the "
-            "orientation as R I^-1 R^T (not R^T I^-1 R, not the body-frame tensor).") {
+            "orientation as R I^-1 R^T (not R^T I^-1 R, not the body-frame tensor), also for a box of two equal "
+            "moments (a square cross-section), which only a body of three equal moments may skip.") {
     Random rnd(601);
     for (int i = 0; i < 300; ++i) {
-        const Body b = checks::turningBody(rnd, "body", i);
+        // Every fifth a box of square cross-section: I_x = I_y != I_z.
+        const double side = rnd.uniform(0.1, 0.5);
+        const Body b = i % 5 == 4 ? box("square", {side, side, 2.5 * side}, rnd.uniform(0.5, 5.0)).rotated(rnd.rotation())
+                                  : checks::turningBody(rnd, "body", i);
         const Mat3 w = worldInverseInertia(b);
         const double scale = b.invInertia.diagonal().maxCoeff();  // 1/(kg m^2)
         ASSERT_LE((w - w.transpose()).norm(), kRounding * scale) << "not symmetric:\n" << w << "\n  " << turning(b);

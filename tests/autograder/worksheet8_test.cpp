@@ -168,6 +168,15 @@ GRADED_TEST(Worksheet8, VolumeOneFreeCornerRestoredExactly, 3,
         Tet t = checks::randomTet(rnd);
         // Every fifth turned inside out (two corners swapped: V < 0 < V0), as a squashed soft body's can be.
         if (i % 5 == 4) std::swap(t.x[0], t.x[1]);
+        // Every sixth a hundred times smaller (edges of about a centimetre, a fine mesh's), or with
+        // corners a thousand times heavier: sum w |g|^2 is then tiny, and still no reason to skip.
+        if (i % 6 == 1) {
+            const Vec3 centre = 0.25 * (t.x[0] + t.x[1] + t.x[2] + t.x[3]);
+            for (Vec3& x : t.x) x = centre + 0.01 * (x - centre);
+            t.rest *= 1e-6;
+        } else if (i % 6 == 3) {
+            for (double& w : t.w) w *= 1e-3;
+        }
         const int k = i % 4;
         for (int j = 0; j < 4; ++j) t.w[j] = j == k ? t.w[j] : 0.0;
         const VolumeCorrection d = checks::solve(t);
@@ -427,6 +436,23 @@ GRADED_TEST(Worksheet8, BoxNearFaceMovesOut, 2,
         ASSERT_LE((answered - b.world(expected)).norm(), 10.0 * kRounding * boxScale(b))
             << "expected " << str(b.world(expected)) << " (box frame " << str(expected) << ")"
             << particleText(p, r, answered, b);
+    }
+    // Exactly on a face (an unturned box at the origin: the box frame is the world's, to the bit), as a
+    // cloth laid on a box can be: out along the face's normal to r, like any other particle nearer than r.
+    for (int i = 0; i < 30; ++i) {
+        Box b = checks::randomBox(rnd);
+        b.centre = Vec3::Zero();
+        b.orientation = Quat::Identity();
+        const double r = rnd.uniform(0.005, 0.1);
+        const int k = i % 3;
+        Vec3 q;
+        for (int j = 0; j < 3; ++j) q[j] = rnd.uniform(-0.999, 0.999) * b.half[j];
+        q[k] = (i % 2 == 0 ? 1.0 : -1.0) * b.half[k];
+        Vec3 expected = q;
+        expected[k] = (i % 2 == 0 ? 1.0 : -1.0) * (b.half[k] + r);
+        const Vec3 answered = projectParticleBox(q, r, b.centre, b.orientation, b.half);
+        ASSERT_LE((answered - expected).norm(), 10.0 * kRounding * boxScale(b))
+            << "a particle exactly on the face: expected " << str(expected) << particleText(q, r, answered, b);
     }
 }
 
