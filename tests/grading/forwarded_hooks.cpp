@@ -246,9 +246,11 @@ void rotationSteps(Body& body, double h, int n, const std::function<void(int)>& 
         Reader r(answer, 1);
         const bool whole = readSteps(Call::RotationSteps, r, asked, [&] {
             EngineAccess::readMotion(r, body);
-            if (!body.orientation.coeffs().allFinite() || !body.angularVelocity.allFinite()) {
-                ADD_FAILURE() << "step " << k + 1 << ": the kernel answered an orientation or angular velocity that is "
-                              << "not a finite number";
+            if (!body.orientation.coeffs().allFinite() || !body.angularVelocity.allFinite() ||
+                !body.position.allFinite() || !body.velocity.allFinite() || !body.acceleration.allFinite() ||
+                !body.force.allFinite() || !body.torque.allFinite()) {
+                ADD_FAILURE() << "step " << k + 1 << ": the kernel left the body with a number that is not finite "
+                              << "(its orientation, angular velocity, position, velocity, forces or torque)";
                 return false;
             }
             each(++k);
