@@ -27,7 +27,7 @@ namespace gpl {
 
 std::optional<Contact> boxPlane([[maybe_unused]] const Body& box, [[maybe_unused]] const Body& plane) {
     // BEGIN SOLUTION
-    const Vec3 n = plane.orientation * plane.normal;
+    const Vec3 m = plane.orientation * plane.normal;
     const Mat3 axes = box.orientation.toRotationMatrix();
     // The corners with their heights above the plane (m); behind it: height < 0.
     std::array<Vec3, 8> corners;
@@ -37,7 +37,7 @@ std::optional<Contact> boxPlane([[maybe_unused]] const Body& box, [[maybe_unused
         const Vec3 signs(j & 1 ? 1.0 : -1.0, j & 2 ? 1.0 : -1.0, j & 4 ? 1.0 : -1.0);  // of corner j
         const Vec3 x = box.position + axes * signs.cwiseProduct(box.halfExtents);
         corners[j] = x;
-        heights[j] = n.dot(x - plane.position);
+        heights[j] = m.dot(x - plane.position);
         if (heights[j] < 0.0) ++behind;
     }
     if (behind == 0) return std::nullopt;
@@ -45,12 +45,12 @@ std::optional<Contact> boxPlane([[maybe_unused]] const Body& box, [[maybe_unused
     std::array<int, 8> order{0, 1, 2, 3, 4, 5, 6, 7};
     std::sort(order.begin(), order.end(), [&heights](int p, int q) { return heights[p] < heights[q]; });
     Contact c;
-    c.normal = -n;
+    c.normal = -m;
     c.depth = -heights[order[0]];
     c.pointCount = std::min(behind, kMaxContactPoints);
     for (int k = 0; k < c.pointCount; ++k) {
         const int j = order[k];
-        c.points[k] = corners[j] - 0.5 * heights[j] * n;  // halfway between the corner and the plane's surface
+        c.points[k] = corners[j] - 0.5 * heights[j] * m;  // halfway between the corner and the plane's surface
     }
     return c;
     // ELSE STUB

@@ -16,9 +16,9 @@ void applyCollisionImpulse([[maybe_unused]] const Contact& contact, [[maybe_unus
                            [[maybe_unused]] Body& b) {
     // BEGIN SOLUTION
     const double w = a.invMass + b.invMass;
-    const double approach = (b.velocity - a.velocity).dot(contact.normal);  // v_rel (m/s)
-    if (w == 0.0 || approach >= 0.0) return;
-    const double j = -(1.0 + contact.restitution) * approach / w;  // N s
+    const double vn = (b.velocity - a.velocity).dot(contact.normal);  // v_n (m/s)
+    if (w == 0.0 || vn >= 0.0) return;
+    const double j = -(1.0 + contact.restitution) * vn / w;  // N s
     a.velocity -= (j * a.invMass) * contact.normal;
     b.velocity += (j * b.invMass) * contact.normal;
     // ELSE STUB

@@ -24,16 +24,16 @@ void applyContactImpulse([[maybe_unused]] const Contact& contact, [[maybe_unused
         const Vec3& p = contact.points[k];
         const Vec3 ra = p - a.position, rb = p - b.position;  // m
         const Vec3 relative = b.velocity + b.angularVelocity.cross(rb) - a.velocity - a.angularVelocity.cross(ra);
-        const double approach = relative.dot(n);  // v_rel (m/s)
-        if (approach >= 0.0) continue;
-        // 1 / effective mass along n at p (1/kg): the speed j = 1 N s along n there gives the pair.
+        const double vn = relative.dot(n);  // v_n (m/s)
+        if (vn >= 0.0) continue;
+        // K of (5), 1 / effective mass along n at p (1/kg): the speed j = 1 N s along n there gives the pair.
         const Vec3 turning = (invIa * ra.cross(n)).cross(ra) + (invIb * rb.cross(n)).cross(rb);
-        const double w = a.invMass + b.invMass + n.dot(turning);
-        if (w <= 0.0) return;
+        const double K = a.invMass + b.invMass + n.dot(turning);
+        if (K <= 0.0) return;
         // The normal impulse of this point (N s). Worksheet 7 keeps one sum per point over the sweeps,
         // clamped at 0 so that the contact never pulls, and adds friction here, through
         // applyImpulseAtPoint() with an impulse along the tangent.
-        const double j = -(1.0 + contact.restitution) * approach / w;
+        const double j = -(1.0 + contact.restitution) * vn / K;
         applyImpulseAtPoint(a, b, p, j * n);
     }
     // ELSE STUB

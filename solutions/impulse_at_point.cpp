@@ -18,19 +18,12 @@ namespace gpl {
 void applyImpulseAtPoint([[maybe_unused]] Body& a, [[maybe_unused]] Body& b, [[maybe_unused]] const Vec3& point,
                          [[maybe_unused]] const Vec3& impulse) {
     // BEGIN SOLUTION
-    // A static body never moves (its inverse mass and inertia are zero): nothing to add to it.
-    // Both inverse inertias first: the matrix worldInverseInertia() returns is read back soon after
-    // it was written only once, not twice (such a read waits for the writes to reach the cache).
-    const Mat3 invIa = a.isStatic() ? Mat3::Zero() : worldInverseInertia(a);
-    const Mat3 invIb = b.isStatic() ? Mat3::Zero() : worldInverseInertia(b);
-    if (!a.isStatic()) {
-        a.velocity -= a.invMass * impulse;
-        a.angularVelocity -= invIa * (point - a.position).cross(impulse);
-    }
-    if (!b.isStatic()) {
-        b.velocity += b.invMass * impulse;
-        b.angularVelocity += invIb * (point - b.position).cross(impulse);
-    }
+    // Eq. (4). A static body has w = 0 and a zero inverse inertia: it does not change.
+    const Vec3 ra = point - a.position, rb = point - b.position;  // m
+    a.velocity -= a.invMass * impulse;
+    a.angularVelocity -= worldInverseInertia(a) * ra.cross(impulse);
+    b.velocity += b.invMass * impulse;
+    b.angularVelocity += worldInverseInertia(b) * rb.cross(impulse);
     // ELSE STUB
     // kernelNotImplemented("applyImpulseAtPoint()");
     // END SOLUTION

@@ -24,13 +24,13 @@ Vec3 projectParticleBox([[maybe_unused]] const Vec3& p, [[maybe_unused]] double 
     // BEGIN SOLUTION
     assert(r >= 0.0 && (half.array() > 0.0).all());
     const Vec3 q = orientation.conjugate() * (p - centre);
-    const Vec3 c = q.cwiseMax(-half).cwiseMin(half);
+    const Vec3 nearest = q.cwiseMax(-half).cwiseMin(half);
     Vec3 moved = q;
-    if (c != q) {
-        const Vec3 d = q - c;
+    if (nearest != q) {
+        const Vec3 d = q - nearest;
         const double distance = d.norm();
         if (distance >= r) return p;
-        moved = c + r * d / distance;
+        moved = nearest + r * d / distance;
     } else {
         int k = 0;  // the axis of the nearest face
         for (int i = 1; i < 3; ++i)

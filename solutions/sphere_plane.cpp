@@ -21,12 +21,12 @@ namespace gpl {
 
 std::optional<Contact> spherePlane([[maybe_unused]] const Body& sphere, [[maybe_unused]] const Body& plane) {
     // BEGIN SOLUTION
-    const Vec3 n = plane.orientation * plane.normal;
-    const double height = n.dot(sphere.position - plane.position);  // of the centre above the plane (m)
+    const Vec3 m = plane.orientation * plane.normal;
+    const double height = m.dot(sphere.position - plane.position);  // of the centre above the plane (m)
     const double depth = sphere.radius - height;
     if (depth <= 0.0) return std::nullopt;
     // The point halfway between the sphere's deepest point and the plane's surface.
-    return Contact::at(sphere.position - (sphere.radius - 0.5 * depth) * n, -n, depth);
+    return Contact::at(sphere.position - (sphere.radius - 0.5 * depth) * m, -m, depth);
     // ELSE STUB
     // kernelNotImplemented("spherePlane()");
     // return std::nullopt;

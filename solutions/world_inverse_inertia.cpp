@@ -13,13 +13,14 @@ namespace gpl {
 Mat3 worldInverseInertia([[maybe_unused]] const Body& body) {
     // BEGIN SOLUTION
     if (body.isStatic()) return Mat3::Zero();
-    // The same about every axis (a sphere, a cube): R (c 1) R^T = c 1, no rotation to build.
+    // The same about every axis (a sphere, a cube): R (c 1) R^T = c 1 in every frame, returned as it
+    // is, exactly; the product would round it to a matrix slightly different about each axis.
     const Mat3& inv = body.invInertia;
     if (inv(0, 1) == 0.0 && inv(0, 2) == 0.0 && inv(1, 2) == 0.0 && inv(1, 0) == 0.0 && inv(2, 0) == 0.0 &&
         inv(2, 1) == 0.0 && inv(0, 0) == inv(1, 1) && inv(0, 0) == inv(2, 2))
         return inv;
-    const Mat3 r = body.orientation.toRotationMatrix();
-    return r * body.invInertia * r.transpose();
+    const Mat3 R = body.orientation.toRotationMatrix();
+    return R * body.invInertia * R.transpose();
     // ELSE STUB
     // kernelNotImplemented("worldInverseInertia()");
     // return Mat3::Zero();

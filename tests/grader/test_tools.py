@@ -849,7 +849,7 @@ class Similarity(unittest.TestCase):
     def test_copies_pair_up_and_stubs_do_not(self):
         solution = (ROOT / "solutions" / "collision_impulse.cpp").read_text()
         # A copy with every name changed and the layout squeezed: the same tokens apart from names.
-        renamed = solution.replace("approach", "vrel").replace("const double w ", "const double wsum ")
+        renamed = solution.replace("vn", "vrel").replace("const double w ", "const double wsum ")
         renamed = renamed.replace("(w == 0.0", "(wsum == 0.0").replace("/ w;", "/ wsum;").replace("    ", "  ")
         # Another way to the same impulse: reduced mass and a velocity difference of its own.
         other = (ROOT / "assignments" / "collision_impulse.cpp").read_text().replace(
