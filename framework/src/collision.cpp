@@ -8,6 +8,7 @@
 
 #include "gpl/engine.h"
 #include "gpl/split_impulses.h"
+#include "gpl/broadphase.h"
 
 namespace gpl {
 
@@ -84,7 +85,7 @@ double normalVelocity(const Contact& contact, const Body& a, const Body& b) {
 void PhysicsEngine::detectCollisions() {
     // The pairs near enough to touch soon: interpenetration looks among them for the overlaps
     // that its own moves create.
-    const std::vector<BodyPair>& pairs = broadPhase_.findPairs(bodies_, kContactMargin, &second_, kPairsAhead * timeStep_);
+    const std::vector<BodyPair>& pairs = broadPhase_->findPairs(bodies_, kContactMargin, &second_, kPairsAhead * timeStep_);
     nearPairs_.assign(pairs.begin(), pairs.end());
     // The friction stage also answers bodies that are within kKeepGap of touching: a stack that
     // starts with every face exactly on the one below has all its contacts from the first step.

@@ -1,4 +1,4 @@
-// The friction stage's sweeps (friction.h): a first pass that measures, prepares and warm starts
+// The friction stage's sweeps (friction_stage.h): a first pass that measures, prepares and warm starts
 // every point, then at every contact its points' applyNormalImpulse() (twice for more than one
 // point) and applyFrictionImpulse(), contactIterations() times, with idle contacts skipped; a large
 // stage in two Halves (halves.h), which come first here.
@@ -12,7 +12,9 @@
 #include <functional>
 
 #include "gpl/friction.h"
+#include "gpl/friction_stage.h"
 #include "gpl/halves.h"
+#include "gpl/second_thread.h"
 
 namespace gpl {
 namespace {

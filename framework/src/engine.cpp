@@ -5,9 +5,24 @@
 #include <iostream>
 #include <mutex>
 
+#include "gpl/broadphase.h"
+#include "gpl/friction_stage.h"
+
 namespace gpl {
 
+// Here, where the contact stages' types are complete: their Owned<> are made, copied and ended.
 PhysicsEngine::PhysicsEngine() = default;
+PhysicsEngine::~PhysicsEngine() = default;
+PhysicsEngine::PhysicsEngine(const PhysicsEngine&) = default;
+PhysicsEngine& PhysicsEngine::operator=(const PhysicsEngine&) = default;
+PhysicsEngine::PhysicsEngine(PhysicsEngine&&) = default;
+PhysicsEngine& PhysicsEngine::operator=(PhysicsEngine&&) = default;
+
+PhysicsEngine::State PhysicsEngine::state() const {
+    return {bodies_, time_, steps_, previousPositions_, soft_.x, soft_.v, soft_.w, fluids_.x, fluids_.v};
+}
+
+int PhysicsEngine::threads() const { return broadPhase_->threads(); }
 
 std::size_t PhysicsEngine::add(Body b) {
     validate(b);
@@ -47,7 +62,7 @@ void PhysicsEngine::remove(std::size_t index) {
     dropAndRenumber(ropes_);
     contacts_.clear();
     nearPairs_.clear();
-    friction_.forget();  // the friction stage's sums name bodies by index
+    friction_->forget();  // the friction stage's sums name bodies by index
     soft_.contacts.clear();  // so do the particles' contacts
 }
 
@@ -58,7 +73,7 @@ void PhysicsEngine::restore(const State& s) {
     time_ = s.time;
     steps_ = s.steps;
     previousPositions_ = s.previousPositions;
-    friction_.forget();
+    friction_->forget();
     soft_.x = s.particlePositions;
     soft_.v = s.particleVelocities;
     soft_.w = s.particleInverseMasses;
@@ -82,7 +97,7 @@ void PhysicsEngine::clear() {
     nearPairs_.clear();
     container_.reset();
     previousPositions_.clear();
-    friction_.forget();
+    friction_->forget();
     soft_.clear();
     fluids_.clear();
     time_ = 0.0;
@@ -188,13 +203,13 @@ void PhysicsEngine::setInterpenetrationIterations(int iterations) {
 }
 
 void PhysicsEngine::setContactSolver(ContactSolver solver) {
-    if (solver != contactSolver_) friction_.forget();  // the solvers keep impulses of different meaning
+    if (solver != contactSolver_) friction_->forget();  // the solvers keep impulses of different meaning
     contactSolver_ = solver;
 }
 
 void PhysicsEngine::setThreads(int threads) {
     if (threads < 1) throw std::invalid_argument("threads must be at least 1, got " + std::to_string(threads));
-    broadPhase_.setThreads(threads);
+    broadPhase_->setThreads(threads);
     soft_.setThreads(threads);
     fluids_.setThreads(threads);
 }
@@ -349,7 +364,7 @@ void PhysicsEngine::projectConstraints() {
     for (int sweep = 0; sweep < constraintIterations_; ++sweep) {
         if (collisions) {
             // Pairs anew every sweep, with a margin: this sweep's pushes may reach new neighbours.
-            for (const BodyPair& pair : broadPhase_.findPairs(bodies_, kContactMargin, &second_)) {
+            for (const BodyPair& pair : broadPhase_->findPairs(bodies_, kContactMargin, &second_)) {
                 Body& a = bodies_[pair.a];
                 Body& b = bodies_[pair.b];
                 if (a.shape != Shape::Sphere || b.shape != Shape::Sphere) continue;

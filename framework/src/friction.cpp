@@ -39,10 +39,11 @@
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/friction.h"
+#include "gpl/friction_stage.h"
 #include "gpl/pair_order.h"
+#include "gpl/response.h"
 #include "gpl/rotation.h"
 #include "gpl/split_impulses.h"
-#include "gpl/response.h"
 
 namespace gpl {
 
@@ -154,8 +155,8 @@ const char* contactSolverName(ContactSolver solver) {
 }
 
 void PhysicsEngine::solveContacts() {
-    friction_.step(bodies_, contacts_, timeStep(), contactIterations_, interpenetrationIterations(),
-                   threads() > 1 ? &second_ : nullptr, contactSolver_);
+    friction_->step(bodies_, contacts_, timeStep(), contactIterations_, interpenetrationIterations(),
+                    threads() > 1 ? &second_ : nullptr, contactSolver_);
     recordOpenKernels();
 }
 

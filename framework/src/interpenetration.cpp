@@ -8,6 +8,7 @@
 // Looking again costs only where something moved: the collision kernels are pure, so a near pair
 // found apart stays apart until one of its bodies moves, and is not tested again before that. The
 // results are those of testing every pair in every sweep.
+#include "gpl/broadphase.h"
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/response.h"

@@ -16,6 +16,7 @@
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/friction.h"
+#include "gpl/friction_stage.h"
 #include "gpl/scenes.h"
 
 namespace gpl {

@@ -12,9 +12,11 @@
 #include <utility>
 #include <vector>
 
+#include "gpl/broadphase.h"
 #include "gpl/collision.h"
 #include "gpl/engine.h"
 #include "gpl/friction.h"
+#include "gpl/friction_stage.h"
 #include "gpl/rotation.h"
 #include "gpl/scenes.h"
 

@@ -14,7 +14,11 @@
 #include <string>
 #include <vector>
 
+#include "gpl/broadphase.h"
 #include "gpl/engine.h"
+#include "gpl/fluids.h"
+#include "gpl/friction_stage.h"
+#include "gpl/soft_bodies.h"
 #include "protocol.h"
 
 namespace gpl {
@@ -121,7 +125,7 @@ struct EngineAccess {
         readFluid(r, e.fluids_);
         if (r.u8()) {
             std::vector<Body> bodies = r.bodies();
-            if (!sameNames(bodies, e.bodies_)) e.friction_.forget();
+            if (!sameNames(bodies, e.bodies_)) e.friction_->forget();
             e.bodies_ = std::move(bodies);
             e.previousPositions_ = r.vec3s();
         }

@@ -38,17 +38,24 @@
 #include <vector>
 
 #include "gpl/body.h"
-#include "gpl/broadphase.h"
 #include "gpl/constraints.h"
 #include "gpl/contact.h"
 #include "gpl/fluids.h"
 #include "gpl/forces.h"
 #include "gpl/friction.h"
 #include "gpl/integrators.h"
+#include "gpl/owned.h"
+#include "gpl/second_thread.h"
 #include "gpl/soft_bodies.h"
 #include "gpl/stages.h"
 
 namespace gpl {
+
+// The contact stages' own state, each in its own header: the engine holds it (Owned, owned.h), and a
+// file that includes engine.h (every hook file) compiles none of it.
+class BroadPhase;     // broadphase.h
+struct BodyPair;      // broadphase.h
+class FrictionStage;  // friction_stage.h
 
 /// Default time step of the engine (s): 100 steps per simulated second. A scene may override it.
 constexpr double kDefaultTimeStep = 0.01;
@@ -70,6 +77,12 @@ public:
 class PhysicsEngine {
 public:
     PhysicsEngine();
+    ~PhysicsEngine();
+    /// A copy has its own contact stages, copied, and no second thread until it needs one.
+    PhysicsEngine(const PhysicsEngine&);
+    PhysicsEngine& operator=(const PhysicsEngine&);
+    PhysicsEngine(PhysicsEngine&&);
+    PhysicsEngine& operator=(PhysicsEngine&&);
 
     // ---- Bodies -------------------------------------------------------------------------------
     /// Adds a body after validating it (throws std::invalid_argument with the reason); returns its index.
@@ -101,9 +114,7 @@ public:
         std::vector<Vec3> fluidPositions;      ///< Fluids::x (m)
         std::vector<Vec3> fluidVelocities;     ///< Fluids::v (m/s)
     };
-    State state() const {
-        return {bodies_, time_, steps_, previousPositions_, soft_.x, soft_.v, soft_.w, fluids_.x, fluids_.v};
-    }
+    State state() const;
     /// Restores a state taken from this engine with the same bodies, springs, constraints and soft
     /// bodies.
     void restore(const State& s);
@@ -157,7 +168,7 @@ public:
     /// (the default on a machine with two cores or more), which they use only for scenes large
     /// enough to gain (the second thread is made then, and kept by the engine); the results are the
     /// same to the bit either way. Throws std::invalid_argument below 1.
-    int threads() const { return broadPhase_.threads(); }
+    int threads() const;
     void setThreads(int threads);
 
     /// The friction stage's contact solver (friction.h); changing it forgets last step's impulses.
@@ -320,10 +331,10 @@ private:
     std::vector<std::size_t> apartAt_;  ///< interpenetration's, per near pair: moves counted when last found apart
     int contactIterations_ = 10;
     int interpenetrationIterations_ = 0;  ///< 0: as many as contactIterations_
-    BroadPhase broadPhase_;
+    Owned<BroadPhase> broadPhase_;  ///< the contact stages' broad phase (broadphase.h)
     std::vector<Vec3> start_;  ///< positions when a position stage began (m); kept to reuse its memory
-    SecondThread second_;                  ///< the second thread of the broad phase, collision detection and the friction stage
-    FrictionStage friction_;               ///< the friction stage's memory and buffers (friction.h)
+    SecondThread second_;  ///< the second thread of the broad phase, collision detection and the friction stage
+    Owned<FrictionStage> friction_;  ///< the friction stage's memory and buffers (friction_stage.h)
     ContactSolver contactSolver_ = ContactSolver::SequentialImpulses;
     SoftBodies soft_;                      ///< worksheet 8's particles, meshes and constraints
     Fluids fluids_;                        ///< worksheet 9's fluid particles
