@@ -179,53 +179,46 @@ Vec3 edgePoint(const OrientedBox& a, int i, const OrientedBox& b, int j, const V
 std::optional<Contact> boxBox([[maybe_unused]] const Body& a, [[maybe_unused]] const Body& b) {
     // BEGIN SOLUTION
     const Vec3 d = b.position - a.position;
-    // Each box lies within the sphere through its corners: boxes whose spheres do not overlap are
-    // apart, and most near pairs of a heap are told so here, before any axis.
-    const double radii = a.halfExtents.norm() + b.halfExtents.norm();
-    if (d.squaredNorm() >= radii * radii) return std::nullopt;
 
-    // The shadows are measured in a's frame, where a's axes are the unit vectors and b's axes are
-    // the columns of R = A^T B, the matrix of b's turn seen from a (q_a^-1 q_b): the half length
-    // of a shadow is then a sum of half extents times entries of |R|, computed once for all 15 axes.
+    // (6) of the worksheet: the fifteen overlaps (5) from the nine cosines C_ij = a_i . b_j, in a's
+    // frame. There a's axes are the unit vectors, b's axis j is column j of C = A^T B (the matrix
+    // of q_a^-1 q_b), and the centres are t = A^T (c_b - c_a) apart.
     const Quat toA = a.orientation.conjugate();  // world frame to a's frame
-    const Mat3 R = (toA * b.orientation).toRotationMatrix();
-    const Mat3 absR = R.cwiseAbs();
-    const Vec3 t = toA * d;  // from a's centre to b's, in a's frame
+    const Mat3 C = (toA * b.orientation).toRotationMatrix();
+    const Mat3 absC = C.cwiseAbs();
+    const Vec3 t = toA * d;
     const Vec3 &ha = a.halfExtents, &hb = b.halfExtents;
 
-    // Face axes: the overlap of the shadows (m); <= 0: the axis separates the boxes. On a's axis m,
-    // a's shadow reaches ha_m and b's hb . (row m of |R|); on b's, a's reaches ha . (column m).
+    // Face axes a_m and b_m: o = rho_a + rho_b - |L . (c_b - c_a)| (m); o <= 0: L separates them.
     double faceDepth = INFINITY;
     int face = 0;  // 0..2: a face axis of a, 3..5: of b
     for (int k = 0; k < 6; ++k) {
         const bool axisOfA = k < 3;
         const int m = k % 3;
-        const double reachA = axisOfA ? ha[m] : ha.dot(absR.col(m));
-        const double reachB = axisOfA ? hb.dot(absR.row(m).transpose()) : hb[m];
-        const double apart = std::abs(axisOfA ? t[m] : R.col(m).dot(t));
-        const double o = reachA + reachB - apart;
+        const double rhoA = axisOfA ? ha[m] : ha.dot(absC.col(m));
+        const double rhoB = axisOfA ? hb.dot(absC.row(m).transpose()) : hb[m];
+        const double apart = std::abs(axisOfA ? t[m] : C.col(m).dot(t));
+        const double o = rhoA + rhoB - apart;
         if (o <= 0.0) return std::nullopt;
         if (o < faceDepth) {
             faceDepth = o;
             face = k;
         }
     }
-    // Edge axes a_i x b_j; in a's frame, e_i x (column j of R). With (i, i1, i2) and (j, j1, j2)
-    // each box's axes in turn, its length is the sine of the edges' angle, a's shadow on it reaches
-    // ha_i1 |R_i2j| + ha_i2 |R_i1j|, b's hb_j1 |R_ij2| + hb_j2 |R_ij1|, and the centres are
-    // |t_i2 R_i1j - t_i1 R_i2j| apart: each divided by the length for the unit axis.
+    // Edge axes a_i x b_j, with (i, i1, i2) and (j, j1, j2) in cyclic order, each divided by its
+    // length s (the sine of the edges' angle) to make it a unit axis.
     double edgeDepth = INFINITY;
     int edgeA = 0, edgeB = 0;
     for (int i = 0; i < 3; ++i) {
         const int i1 = (i + 1) % 3, i2 = (i + 2) % 3;
         for (int j = 0; j < 3; ++j) {
             const int j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-            const double length = std::sqrt(R(i1, j) * R(i1, j) + R(i2, j) * R(i2, j));
-            if (length < kParallel) continue;
-            const double reachA = ha[i1] * absR(i2, j) + ha[i2] * absR(i1, j);
-            const double reachB = hb[j1] * absR(i, j2) + hb[j2] * absR(i, j1);
-            const double apart = std::abs(t[i2] * R(i1, j) - t[i1] * R(i2, j));
-            const double o = (reachA + reachB - apart) / length;
+            const double s = std::sqrt(C(i1, j) * C(i1, j) + C(i2, j) * C(i2, j));
+            if (s < kParallel) continue;
+            const double rhoA = ha[i1] * absC(i2, j) + ha[i2] * absC(i1, j);
+            const double rhoB = hb[j1] * absC(i, j2) + hb[j2] * absC(i, j1);
+            const double apart = std::abs(t[i2] * C(i1, j) - t[i1] * C(i2, j));
+            const double o = (rhoA + rhoB - apart) / s;
             if (o <= 0.0) return std::nullopt;
             if (o < edgeDepth) {
                 edgeDepth = o;

@@ -28,10 +28,9 @@ namespace gpl {
 void applyFrictionImpulse([[maybe_unused]] const ContactPoint& point, [[maybe_unused]] Body& a,
                           [[maybe_unused]] Body& b, [[maybe_unused]] PointImpulse& sum) {
     // BEGIN SOLUTION
-    if (sum.normal == 0.0 && sum.tangent.isZero(0.0)) return;
     const ContactAxis& t1 = point.t1;
     const ContactAxis& t2 = point.t2;
-    assert(t1.K > 0.0 && t2.K > 0.0);  // a point with a normal sum has a body that can move
+    assert(t1.K > 0.0 && t2.K > 0.0);  // a contact has a body that can move
     const Vec3 dv = b.velocity - a.velocity;
     const double ut1 = t1.d.dot(dv) + t1.rbXd.dot(b.angularVelocity) - t1.raXd.dot(a.angularVelocity);  // u . t1
     const double ut2 = t2.d.dot(dv) + t2.rbXd.dot(b.angularVelocity) - t2.raXd.dot(a.angularVelocity);  // u . t2

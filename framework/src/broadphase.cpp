@@ -22,9 +22,13 @@ bool reachesPlane(const Aabb& box, const Vec3& origin, const Vec3& n) {
 
 Vec3 planeNormal(const Body& plane) { return plane.orientation * plane.normal; }
 
-// A sphere's ball grown by `margin` times its radius; a radius below zero for the other shapes.
+// The body's bounding ball grown by `margin` times its size, as boundingBox() grows its box: a
+// sphere's radius (1 + margin) r, a box's the distance of its corners |h| plus margin times its
+// smallest half extent; a radius below zero for a plane.
 Ball ballOf(const Body& b, double margin) {
-    return b.shape == Shape::Sphere ? Ball{b.position, (1.0 + margin) * b.radius} : Ball{b.position, -1.0};
+    if (b.shape == Shape::Sphere) return {b.position, (1.0 + margin) * b.radius};
+    if (b.shape == Shape::Box) return {b.position, b.halfExtents.norm() + margin * b.halfExtents.minCoeff()};
+    return {b.position, -1.0};
 }
 
 // Two balls meet (touching counts).
@@ -33,11 +37,9 @@ bool meet(const Ball& p, const Ball& q) {
     return (p.centre - q.centre).squaredNorm() <= reach * reach;
 }
 
-// Two bounding volumes overlap: the balls of two spheres (their boxes then overlap too), the boxes
-// of any other two bodies.
+// Two bounding volumes overlap: both the boxes and the balls of two finite bodies.
 bool overlap(const Aabb& boxP, const Aabb& boxQ, const Ball& ballP, const Ball& ballQ) {
-    if (ballP.radius >= 0.0 && ballQ.radius >= 0.0) return meet(ballP, ballQ);
-    return overlap(boxP, boxQ);
+    return meet(ballP, ballQ) && overlap(boxP, boxQ);
 }
 
 }  // namespace

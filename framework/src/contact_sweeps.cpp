@@ -28,13 +28,13 @@ struct Velocities {
 
 /// One contact's solve: its points' normal impulses (twice over for more than one point: the points
 /// of a face share its load, and after one pass the first holds more than its share), then their
-/// friction. True when it changed a sum.
+/// friction at those that hold an impulse. True when it changed a sum.
 bool solveContact(const ContactPoint* points, PointImpulse* sums, int count, Body& a, Body& b) {
     if (count == 1) {
         const double normal = sums[0].normal;
         const Vec3 tangent = sums[0].tangent;
         applyNormalImpulse(points[0], a, b, sums[0]);
-        applyFrictionImpulse(points[0], a, b, sums[0]);
+        if (holdsImpulse(sums[0])) applyFrictionImpulse(points[0], a, b, sums[0]);
         return sums[0].normal != normal || sums[0].tangent != tangent;
     }
     std::array<double, kMaxContactPoints> normals;
@@ -46,7 +46,9 @@ bool solveContact(const ContactPoint* points, PointImpulse* sums, int count, Bod
     for (int pass = 0; pass < 2; ++pass) {
         for (int k = 0; k < count; ++k) applyNormalImpulse(points[k], a, b, sums[k]);
     }
-    for (int k = 0; k < count; ++k) applyFrictionImpulse(points[k], a, b, sums[k]);
+    for (int k = 0; k < count; ++k) {
+        if (holdsImpulse(sums[k])) applyFrictionImpulse(points[k], a, b, sums[k]);
+    }
     bool changed = false;
     for (int k = 0; k < count; ++k) changed = changed || sums[k].normal != normals[k] || sums[k].tangent != tangents[k];
     return changed;
@@ -221,7 +223,7 @@ void ContactSweeps::applyWarmStarts(Part& part) {
         for (int k = 0; k < job.contact->pointCount; ++k) {
             const std::size_t i = job.point + k;
             const PointImpulse& s = part.sums[i];
-            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(part.points[i], *job.a, *job.b, s);
+            if (holdsImpulse(s)) applyWarmStart(part.points[i], *job.a, *job.b, s);
         }
     }
 }

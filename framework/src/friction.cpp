@@ -392,13 +392,13 @@ void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>&
         const Contact& con = contacts[c];
         for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) {
             const PointImpulse& s = sums_[i];
-            if (s.normal != 0.0 || !s.tangent.isZero(0.0)) applyWarmStart(points_[i], bodies[con.a], bodies[con.b], s);
+            if (holdsImpulse(s)) applyWarmStart(points_[i], bodies[con.a], bodies[con.b], s);
         }
     }
     // Each sweep visits every contact once: the normal impulses of its points, twice when it has
     // more than one (the points of a face share its load, and after one pass the first point holds
     // more than its share, which the second pass hands on), then their friction, bounded by the
-    // normal sums as they now are.
+    // normal sums as they now are, at the points that hold an impulse.
     for (int sweep = 0; sweep < sweeps; ++sweep) {
         for (std::size_t c = 0; c < contacts.size(); ++c) {
             Body& a = bodies[contacts[c].a];
@@ -407,7 +407,9 @@ void FrictionStage::sweep(std::vector<Body>& bodies, const std::vector<Contact>&
             for (int pass = 0; pass < normalPasses; ++pass) {
                 for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) applyNormalImpulse(points_[i], a, b, sums_[i]);
             }
-            for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) applyFrictionImpulse(points_[i], a, b, sums_[i]);
+            for (std::size_t i = first_[c]; i < first_[c + 1]; ++i) {
+                if (holdsImpulse(sums_[i])) applyFrictionImpulse(points_[i], a, b, sums_[i]);
+            }
         }
     }
 }

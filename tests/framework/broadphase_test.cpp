@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 
@@ -235,8 +236,8 @@ TEST(BroadPhase, TouchingBoxesPairAndSeparatedOnesDoNot) {
 TEST(BroadPhase, SpheresPairOnlyWhereTheirBallsMeet) {
     // Spheres of radius 0.5 m side by side at a slant, 0.8 m apart on two axes: their boxes overlap
     // in the corners, but the balls are 1.13 m apart, 0.13 m more than they reach. A margin of 0.15
-    // grows each radius by 7.5 cm, enough; 0.12 (6 cm each) is not. A box in the sphere's place has
-    // no ball: its box decides.
+    // grows each radius by 7.5 cm, enough; 0.12 (6 cm each) is not. A cube in the sphere's place
+    // reaches farther: its ball passes through its corners (0.87 m), and the two balls meet.
     const Vec3 slant(0.8, 0.8, 0.0);  // m
     std::vector<Body> spheres = {sphere("a", 0.5, 1.0), sphere("b", 0.5, 1.0).at(slant)};
     std::vector<Body> sphereAndBox = {sphere("a", 0.5, 1.0), box("b", Vec3::Constant(0.5), 1.0).at(slant)};
@@ -257,6 +258,30 @@ TEST(BroadPhase, SpheresPairOnlyWhereTheirBallsMeet) {
     spheres[1].position = Vec3(0.705, 0.705, 0.0);  // 0.997 m apart: touching
     EXPECT_EQ(broadPhase.findPairs(spheres), pair);
     EXPECT_EQ(broadPhase.searches(), searches);
+}
+
+TEST(BroadPhase, BoxesPairOnlyWhereTheirBallsMeet) {
+    // Two cubes of half extent 0.5 m, each turned by 45 degrees about z: each one's bounding box has
+    // the half extents (0.71, 0.71, 0.5) m. With b's centre at 0.99 of their sum from a's on every
+    // axis the boxes overlap, but the centres are 2.21 m apart, more than the balls through the
+    // corners reach (2 x 0.87 m): no cube reaches the other. At (0.9, 0.9, 0.9) m, 1.56 m apart,
+    // the balls meet and the pair is found.
+    const Quat turn(Eigen::AngleAxisd(std::atan(1.0), Vec3::UnitZ()));  // 45 degrees
+    std::vector<Body> cubes = {box("a", Vec3::Constant(0.5), 1.0).rotated(turn),
+                               box("b", Vec3::Constant(0.5), 1.0).rotated(turn)};
+    const Aabb boxA = boundingBox(cubes[0]);
+    const Vec3 reach = 2.0 * 0.5 * (boxA.max - boxA.min);  // the two boxes' half extents, summed (m)
+    cubes[1].at(0.99 * reach);
+    const Aabb boxB = boundingBox(cubes[1]);
+    ASSERT_TRUE((boxA.max.array() >= boxB.min.array()).all());  // the bounding boxes overlap
+    ASSERT_GT((cubes[1].position - cubes[0].position).norm(), 2.0 * Vec3::Constant(0.5).norm());
+    BroadPhase broadPhase;
+    EXPECT_TRUE(broadPhase.findPairs(cubes).empty());
+    EXPECT_TRUE(bruteForcePairs(cubes).empty());
+    cubes[1].at(Vec3::Constant(0.9));
+    const std::vector<BodyPair> pair = {{0, 1}};
+    EXPECT_EQ(broadPhase.findPairs(cubes), pair);
+    EXPECT_EQ(bruteForcePairs(cubes), pair);
 }
 
 TEST(BroadPhase, MarginFindsBodiesAboutToTouch) {

@@ -9,9 +9,10 @@
 // larger than kLargeSizes median boxes (or far outside the grid's range) is tested against every
 // other body instead, so that one large body does not make every cell large. Static planes are
 // infinite: each pairs with every movable body whose box reaches the plane. Two static bodies never
-// pair. Two spheres pair only when their balls meet as well as their boxes: the boxes of two spheres
-// side by side at a slant overlap in their corners (in a settled heap of spheres, a third of the
-// pairs of boxes), and every pair found costs the contact stages a kernel call or more. The result
+// pair. Two finite bodies pair only when their bounding balls meet as well as their boxes: the boxes
+// of two spheres side by side at a slant overlap in their corners (in a settled heap of spheres, a
+// third of the pairs of boxes), the boxes of two turned boxes where neither box reaches, and every
+// pair found costs the contact stages a kernel call or more. The result
 // is exactly the pairs whose bounding volumes overlap (bruteForcePairs() tests every pair the same
 // way), sorted. The work grows with the number of bodies, not with the size of the scene.
 //
@@ -61,7 +62,8 @@ struct Aabb {
 /// The box grown on every side by `margin` times the body's size (radius or smallest half extent).
 Aabb boundingBox(const Body& body, double margin = 0.0);
 
-/// A sphere's bounding ball (itself, grown by the margin); other shapes have none (radius < 0).
+/// A body's bounding ball, grown by the margin as its box is: a sphere's is the sphere itself, a
+/// box's the ball through its corners; a plane has none (radius < 0).
 struct Ball {
     Vec3 centre = Vec3::Zero();  ///< m
     double radius = -1.0;        ///< m
@@ -133,7 +135,7 @@ private:
     std::vector<Aabb> grown_;
     std::vector<char> kind_;
     std::vector<Aabb> now_;  ///< this call's boxes with the margin alone, per body
-    std::vector<Ball> balls_;  ///< and the spheres' balls, likewise
+    std::vector<Ball> balls_;  ///< and the balls, likewise
     double grownMargin_ = -1.0;
     std::vector<BodyPair> kept_;
     std::vector<std::size_t> out_;  ///< this call's bodies out of their grown boxes

@@ -22,6 +22,10 @@
 
 namespace gpl {
 
+/// A point holds an impulse: a normal sum or a friction sum. One that holds none is neither warm
+/// started nor given friction: its cone has no width, and friction leaves its zero sum as it is.
+inline bool holdsImpulse(const PointImpulse& sum) { return sum.normal != 0.0 || !sum.tangent.isZero(0.0); }
+
 /// Framework (contact_sweeps.cpp): every point of `contacts` prepared once with
 /// prepareContactPoint(), then `sweeps` sweeps of applyNormalImpulse() then applyFrictionImpulse()
 /// over every point; sums[first[c] + k] is point k of contact c, invI[i] worldInverseInertia() of

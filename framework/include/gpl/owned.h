@@ -23,7 +23,6 @@ public:
     const T& operator*() const { return *p_; }
     T* operator->() { return p_; }
     const T* operator->() const { return p_; }
-    T* get() { return p_; }
 
 private:
     T* p_;
