@@ -146,65 +146,6 @@ double bareNeighbourSum(const ParticleGrid& grid, const std::vector<Vec3>& x, do
     return total;
 }
 
-double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity,
-                        double h, double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,
-                        std::vector<Vec3>& moved) {
-    constexpr double pi = 3.14159265358979323846;
-    const double h2 = h * h;
-    const double poly6 = 315.0 / (64.0 * pi * std::pow(h, 9));  // W = poly6 (h^2 - r^2)^3
-    const double spiky = -45.0 / (pi * std::pow(h, 6));         // grad W = spiky (h - r)^2 r / |r|
-    const double share = mass / restDensity;
-    const auto gradient = [&](const Vec3& r) -> Vec3 {
-        const double length = r.norm();
-        if (length == 0.0 || length > h) return Vec3::Zero();
-        return (spiky * (h - length) * (h - length) / length) * r;
-    };
-    const std::uint32_t* list = grid.list().data();
-    lambda.resize(x.size());
-    moved.resize(x.size());
-    // Pass 1: each density and, from it, each multiplier.
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        const std::uint32_t first = grid.start(i), last = first + grid.count(i);
-        double sum = h2 * h2 * h2;  // the particle itself
-        Vec3 gradI = Vec3::Zero();
-        double squares = 0.0;
-        for (std::uint32_t k = first; k < last; ++k) {
-            const Vec3 r = x[i] - x[list[k]];
-            const double q = h2 - r.squaredNorm();
-            if (q > 0.0) sum += q * q * q;
-            const Vec3 gradJ = -share * gradient(r);
-            squares += gradJ.squaredNorm();
-            gradI -= gradJ;
-        }
-        const double density = mass * poly6 * sum;
-        const double C = std::max(density, restDensity) / restDensity - 1.0;
-        lambda[i] = -C / (squares + gradI.squaredNorm() + epsilon);
-    }
-    // Pass 2: each move, with s_corr; pass 3 (in the same loop: the moves go to `moved`): each particle moved.
-    const double wdq = tensile.k > 0.0 ? poly6 * std::pow(h2 - tensile.dq * tensile.dq, 3) : 1.0;
-    double total = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-        const std::uint32_t first = grid.start(i), last = first + grid.count(i);
-        Vec3 dp = Vec3::Zero();
-        for (std::uint32_t k = first; k < last; ++k) {
-            const std::uint32_t j = list[k];
-            const Vec3 r = x[i] - x[j];
-            double sCorr = 0.0;
-            if (tensile.k > 0.0) {
-                const double q = std::max(h2 - r.squaredNorm(), 0.0);
-                const double ratio = poly6 * q * q * q / wdq;
-                double power = 1.0;
-                for (int e = 0; e < tensile.n; ++e) power *= ratio;
-                sCorr = -tensile.k * power;
-            }
-            dp += (lambda[i] + lambda[j] + sCorr) * gradient(r);
-        }
-        moved[i] = x[i] + share * dp;
-        total += moved[i].sum();
-    }
-    return total;
-}
-
 FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int steps, int threads) {
     FluidCost cost;
     FluidParameters water = studyWater();
@@ -218,10 +159,9 @@ FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int ste
     cost.iterations = iterations;
     const double dt = cflBound(water.smoothingLength, water.soundSpeed);
     cost.sphSubsteps = sph.fluid.sphSubsteps(pbfStep);
-    std::vector<double> predict, neighbours, project, velocities, substep, search, bare, barePbf;
+    std::vector<double> predict, neighbours, project, velocities, substep, search, bare;
     ParticleGrid grid;
-    std::vector<double> density, lambda;
-    std::vector<Vec3> moved;
+    std::vector<double> density;
     volatile double sink = 0.0;  // the bare loop's result, kept so that the loop is not optimised away
     const auto timed = [](std::vector<double>& into, bool keep, const auto& run) {
         const double begin = threadCpuNs();
@@ -252,10 +192,6 @@ FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int ste
         stage(substep, keep, [&] { sph.fluid.stepSph(dt, kGravity, sph.walls, 1); });
         timed(search, keep, [&] { grid.find(f.x, water.smoothingLength); });
         timed(bare, keep, [&] { sink = sink + bareNeighbourSum(grid, f.x, f.mass(), water.smoothingLength, density); });
-        timed(barePbf, keep, [&] {
-            sink = sink + barePbfIteration(grid, f.x, f.mass(), water.restDensity, water.smoothingLength, f.epsilon(),
-                                           f.tensile(), lambda, moved);
-        });
     }
     cost.neighbours = static_cast<double>(grid.total()) / cost.particles;
     cost.pbfPredictNs = median(predict);
@@ -265,7 +201,6 @@ FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int ste
     cost.sphSubstepNs = median(substep);
     cost.searchNs = median(search);
     cost.bareNs = median(bare);
-    cost.barePbfNs = median(barePbf);
     return cost;
 }
 
