@@ -159,9 +159,10 @@ FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int ste
     cost.iterations = iterations;
     const double dt = cflBound(water.smoothingLength, water.soundSpeed);
     cost.sphSubsteps = sph.fluid.sphSubsteps(pbfStep);
-    std::vector<double> predict, neighbours, project, velocities, substep, search, bare;
+    std::vector<double> predict, neighbours, project, velocities, substep, search, bare, barePbf;
     ParticleGrid grid;
-    std::vector<double> density;
+    std::vector<double> density, lambda;
+    std::vector<Vec3> moved;
     volatile double sink = 0.0;  // the bare loop's result, kept so that the loop is not optimised away
     const auto timed = [](std::vector<double>& into, bool keep, const auto& run) {
         const double begin = threadCpuNs();
@@ -192,6 +193,12 @@ FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int ste
         stage(substep, keep, [&] { sph.fluid.stepSph(dt, kGravity, sph.walls, 1); });
         timed(search, keep, [&] { grid.find(f.x, water.smoothingLength); });
         timed(bare, keep, [&] { sink = sink + bareNeighbourSum(grid, f.x, f.mass(), water.smoothingLength, density); });
+#ifdef GPL_BARE_PBF
+        timed(barePbf, keep, [&] {
+            sink = sink + barePbfIteration(grid, f.x, f.mass(), water.restDensity, water.smoothingLength, f.epsilon(),
+                                           f.tensile(), lambda, moved);
+        });
+#endif
     }
     cost.neighbours = static_cast<double>(grid.total()) / cost.particles;
     cost.pbfPredictNs = median(predict);
@@ -201,6 +208,7 @@ FluidCost measureCost(int n, int iterations, double pbfStep, int warmup, int ste
     cost.sphSubstepNs = median(substep);
     cost.searchNs = median(search);
     cost.bareNs = median(bare);
+    if (!barePbf.empty()) cost.barePbfNs = median(barePbf);
     return cost;
 }
 

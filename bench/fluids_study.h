@@ -89,6 +89,7 @@ struct FluidCost {
     int sphSubsteps = 0;      ///< substeps of a step of pbfStep at the speed of sound
     double searchNs = 0;      ///< ParticleGrid::find() alone
     double bareNs = 0;        ///< bareNeighbourSum() alone
+    double barePbfNs = 0;     ///< barePbfIteration() alone; 0 where it is not built
     double pbfStepNs() const { return pbfPredictNs + pbfNeighboursNs + pbfProjectNs + pbfVelocitiesNs; }
     double sphStepNs() const { return sphSubstepNs * sphSubsteps; }
     /// PBF's step over its iterations: what one iteration costs with the step's other stages shared out.
@@ -106,6 +107,17 @@ FluidCost measureCost(int n, int iterations = 4, double pbfStep = 0.005, int war
 /// that the loop is not optimised away).
 double bareNeighbourSum(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double h,
                         std::vector<double>& density);
+
+/// Instructors' tree only (bench/instructor/bare_pbf.cpp; built with GPL_BARE_PBF, and barePbfNs
+/// stays 0 without it). The same work as one of PBF's iterations without the hooks and the framework: its three passes
+/// over the neighbours in `grid` (found at `x`) with the kernels written out in place, as the reference
+/// hooks compute them (densities from max(rho_i, rho0) to multipliers with eps, then the moves with
+/// s_corr), and every particle moved; the fluid's mass, rest density, smoothing length, eps and
+/// tensile correction. No push out of walls. Writes the moved positions to `moved` and returns the
+/// sum of their coordinates (so that the loop is not optimised away).
+double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity,
+                        double h, double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,
+                        std::vector<Vec3>& moved);
 
 /// 5. A dam-break scene (dam-break or dam-break-sph, scenes_worksheet9.cpp) stepped to T = Tend:
 /// its surge front Z = z / a against T = t sqrt(2 g / a) at every step, and Z interpolated to each

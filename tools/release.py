@@ -3,11 +3,12 @@
 
   release.py release DIR [--reference-demo]
       the student release: framework, assignments (the stubs, generated from solutions/), public
-      tests, worksheets without worksheets/instructor/, lab, cmake/, the grader, and a README for
-      students (docs/student-README.md). No solutions, no hidden tests, no seeded mistakes, no
-      instructor notes; it builds on its own. --reference-demo adds the reference engine compiled
-      here (reference/: object files and a library, no source), so that the release's viewer shows
-      the reference ghost and ./lab run --reference the reference's numbers.
+      tests, worksheets without worksheets/instructor/, bench/ without bench/instructor/, lab,
+      cmake/, the grader, and a README for students (docs/student-README.md). No solutions, no
+      hidden tests, no seeded mistakes, no instructor notes; it builds on its own. --reference-demo
+      adds the reference engine compiled here (reference/: object files and a library, no source),
+      so that the release's viewer shows the reference ghost and ./lab run --reference the
+      reference's numbers.
   release.py gradescope DIR [--hidden-visibility hidden|after_published]
       the Gradescope autograder: setup.sh, run_autograder and the sources they need (hidden tests
       included, no solutions: grading does not need them), and DIR.zip to upload.
@@ -47,7 +48,7 @@ RELEASED = ["lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".git
 # The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
 GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
               "tests/framework", "tests/autograder", "tests/grading", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
-EXCLUDED = {"worksheets/instructor", "__pycache__"}
+EXCLUDED = {"worksheets/instructor", "bench/instructor", "__pycache__"}
 # The release's README.md: written for students, from this file (the instructors' README stays here).
 STUDENT_README = "docs/student-README.md"
 # Parts of it between these lines are kept only in a release written with --reference-demo; parts
@@ -123,7 +124,7 @@ def leaks(folder):
         for secret, origin in secrets.items():
             if secret in text:
                 found.append((str(path.relative_to(folder)), secret, origin))
-    for forbidden in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor"):
+    for forbidden in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor", "bench/instructor"):
         if (folder / forbidden).exists():
             found.append((forbidden, "the folder itself", forbidden))
     return found

@@ -157,7 +157,8 @@ class StudentRelease(unittest.TestCase):
         self.assertEqual([p.name for p in self.tmp.iterdir() if p.name.startswith(".")], [], "no leftovers beside it")
 
     def test_nothing_for_instructors_only(self):
-        for path in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor", "tools/release.py", ".ci"):
+        for path in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor", "bench/instructor",
+                     "tools/release.py", ".ci"):
             self.assertFalse((self.release / path).exists(), path)
         self.assertEqual(list((self.release / "tests" / "autograder").glob("*hidden*")), [])
 

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -38,6 +39,47 @@ TEST(FluidsStudy, BareLoopIsTheFluidsDensity) {
     }
     EXPECT_NEAR(total, sum, 1e-12 * sum);
 }
+
+#ifdef GPL_BARE_PBF  // bench/instructor/bare_pbf.cpp, in an instructor's tree
+TEST(FluidsStudy, BarePbfIterationMovesTheParticlesAsOnePbfIterationDoes) {
+    // A block of 8^3 particles, each moved off its lattice point by up to a tenth of the spacing
+    // (fixed seed) so that the density constraints move them, then one PBF iteration by the engine
+    // and by the bare loop from the same predicted positions. Away from the walls (two spacings or
+    // more inside), where the walls' push moves nobody, the two must agree.
+    FluidParameters water = studyWater();
+    water.iterations = 1;
+    FluidTank tank;
+    fillBlock(tank, water, 8, 8, 8);
+    Fluids& f = tank.fluid;
+    std::mt19937 random(7);
+    std::uniform_real_distribution<double> jitter(-0.1 * water.spacing, 0.1 * water.spacing);
+    for (Vec3& x : f.x) x += Vec3(jitter(random), jitter(random), jitter(random));
+    f.predict(0.005, Vec3(0.0, -9.81, 0.0));
+    f.findNeighbours();
+    ParticleGrid grid;
+    grid.find(f.p, water.smoothingLength);
+    std::vector<double> lambda;
+    std::vector<Vec3> moved;
+    barePbfIteration(grid, f.p, f.mass(), water.restDensity, water.smoothingLength, f.epsilon(), f.tensile(), lambda,
+                     moved);
+    const std::vector<Vec3> before = f.p;
+    f.project(tank.walls);
+    const double inner = 2.0 * water.spacing, outer = 8.0 * water.spacing - inner;  // m
+    int compared = 0;
+    double largestMove = 0.0;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+        const Vec3& q = before[i];
+        if (!(q.minCoeff() > inner && q.x() < outer && q.z() < outer)) continue;
+        ++compared;
+        largestMove = std::max(largestMove, (f.p[i] - q).norm());
+        // The kernels written out round otherwise (h^2 - r^2 from r^2, not from a square root): the
+        // moves agree to about 1e-13 of the spacing; a wrong term moves a particle 1e-4 of it or more.
+        EXPECT_NEAR((moved[i] - f.p[i]).norm(), 0.0, 1e-9 * water.spacing) << "particle " << i;
+    }
+    EXPECT_EQ(compared, 4 * 6 * 4);  // particles 2.5 to 5.5 spacings from the side walls, 2.5 up from the floor
+    EXPECT_GT(largestMove, 1e-3 * water.spacing);  // the constraints moved the particles
+}
+#endif
 
 TEST(FluidsStudy, MorePbfIterationsLeaveLessCompression) {
     const DensityError one = pbfColumnError(kSmall, 1, 1.0 / 60.0, 0.2, 0.1);
