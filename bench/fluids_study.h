@@ -109,11 +109,11 @@ double bareNeighbourSum(const ParticleGrid& grid, const std::vector<Vec3>& x, do
                         std::vector<double>& density);
 
 /// Instructors' tree only (bench/instructor/bare_pbf.cpp; built with GPL_BARE_PBF, and barePbfNs
-/// stays 0 without it). The same work as one of PBF's iterations without the hooks and the framework: its three passes
-/// over the neighbours in `grid` (found at `x`) with the kernels written out in place, as the reference
-/// hooks compute them (densities from max(rho_i, rho0) to multipliers with eps, then the moves with
-/// s_corr), and every particle moved; the fluid's mass, rest density, smoothing length, eps and
-/// tensile correction. No push out of walls. Writes the moved positions to `moved` and returns the
+/// stays 0 without it). The same work as one of PBF's iterations without the hooks and the
+/// framework: its three passes over the neighbours in `grid` (found at `x`) with the kernels
+/// written out in place, as the reference hooks compute them (densities from max(rho_i, rho0) to
+/// multipliers with eps, then the moves with s_corr), and every particle moved; the fluid's mass,
+/// rest density, smoothing length, eps and tensile correction. No push out of walls. Writes the moved positions to `moved` and returns the
 /// sum of their coordinates (so that the loop is not optimised away).
 double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity,
                         double h, double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,

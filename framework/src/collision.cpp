@@ -6,9 +6,9 @@
 #include <utility>
 #include <vector>
 
+#include "gpl/broadphase.h"
 #include "gpl/engine.h"
 #include "gpl/split_impulses.h"
-#include "gpl/broadphase.h"
 
 namespace gpl {
 
