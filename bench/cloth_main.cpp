@@ -11,6 +11,9 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "bullet_cloth.h"
 #include "cloth_study.h"
@@ -178,6 +181,9 @@ void flagPart(Output& output) {
     }
 }
 
+// Runs of the bare XPBD sweeps per size (each a few milliseconds).
+constexpr int kBareRepeats = 15;
+
 // 4. The same cloth dropped on a sphere in both engines, taking turns: in each round this engine
 // on each thread count, then Bullet.
 void bulletPart(Output& output, const std::vector<int>& sizes, const std::vector<int>& threadCounts, int runs,
@@ -210,7 +216,11 @@ void bulletPart(Output& output, const std::vector<int>& sizes, const std::vector
     auto dat = output.open("cloth-bullet.dat");
     dat << "cloth \"Bullet\"";
     for (int t : threadCounts) dat << " \"this engine, " << t << (t == 1 ? " thread" : " threads") << '"';
+#ifdef GPL_BARE_XPBD
+    dat << " \"bare XPBD sweeps, 1 thread\"";
+#endif
     dat << '\n';
+    std::vector<std::string> bareLines;  // per size: the bare sweeps' time against Bullet's step
     const std::string dash = "-";
     for (int n : sizes) {
         drop.n = n;
@@ -254,7 +264,26 @@ void bulletPart(Output& output, const std::vector<int>& sizes, const std::vector
                 << m.largestStretch << ',' << m.meanStretch << ',' << m.deepest << ',' << m.finite << '\n';
             dat << ' ' << oursMs;
         }
+        if (const double bareMs = gpl::study::bareSweepsMs(drop, kBareRepeats); bareMs > 0.0) {
+            dat << ' ' << bareMs;
+            csv << n << ",bare XPBD sweeps,1," << kBareRepeats << ',' << bareMs << ",,,,,\n";
+            std::ostringstream line;
+            line << "  " << n << " x " << n << ": " << fixed(bareMs, 2) << " ms";
+            if (bullet) {
+                line << ", " << fixed(bareMs / theirMs, 2) << " of Bullet's step; on two threads at best "
+                     << fixed(0.5 * bareMs / theirMs, 2);
+            }
+            bareLines.push_back(line.str());
+        }
         dat << '\n';
+    }
+    if (!bareLines.empty()) {
+        std::cout << "bare XPBD sweeps (an instructor's tree: bench/instructor/bare_xpbd.cpp): the step's "
+                  << drop.iterations << " sweeps of the cloth's links as the reference solveDistanceConstraint() "
+                  << "computes them, written out in place, on one thread from the cloth half way through the drop; "
+                  << "no hooks, contacts or threads: the method's own work, which two threads can at best halve "
+                  << "(median of " << kBareRepeats << " runs)\n";
+        for (const std::string& line : bareLines) std::cout << line << '\n';
     }
     std::cout << "target: this engine's time per step at most " << kTarget << " of Bullet's" << std::endl;
 }
@@ -262,6 +291,14 @@ void bulletPart(Output& output, const std::vector<int>& sizes, const std::vector
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef __GLIBC__
+    // Each run's large arrays (a cloth's particles and links, in either engine) come fresh from the
+    // system, as in the first round. With glibc's own threshold, which rises at the first large free,
+    // later rounds take theirs from a heap the engine before them left behind, and both engines'
+    // steps run slower there than in the first round: the rounds would then time the heap, not the
+    // engines.
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
+#endif
     CLI::App app{
         "The cloth study: PBD and XPBD stretch, cost and stability, and the cloth beside Bullet (./lab bench cloth)"};
     std::string out = "build/cloth";

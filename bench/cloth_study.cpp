@@ -288,4 +288,28 @@ DropRun dropOnSphere(const SphereDrop& d) {
     return run;
 }
 
+double bareSweepsMs([[maybe_unused]] const SphereDrop& d, [[maybe_unused]] int repeats) {
+#ifdef GPL_BARE_XPBD
+    SoftBodies soft;
+    soft.setThreads(1);
+    soft.addCloth(sphereDropSpec(d));
+    const std::vector<Body> bodies{dropSphere(d)};
+    // The cloth draped over the sphere half way through the drop, and its next step's prediction.
+    const auto steps = static_cast<long>(std::llround(0.5 * d.seconds / d.h));
+    for (long s = 0; s < steps; ++s) step(soft, bodies, d.h, d.iterations, kGravity, s * d.h);
+    soft.predict(d.h, kGravity, steps * d.h);
+    std::vector<double> ms;
+    for (int r = 0; r < repeats; ++r) {
+        std::vector<Vec3> p = soft.p;
+        std::vector<DistanceLink> links = soft.links;
+        const auto begin = Clock::now();
+        bareXpbdSweeps(p, soft.w, links, d.h, d.iterations);
+        ms.push_back(nsSince(begin) * 1e-6);
+    }
+    return median(ms);
+#else
+    return 0.0;
+#endif
+}
+
 }  // namespace gpl::study

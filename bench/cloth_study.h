@@ -141,6 +141,21 @@ struct DropRun {
 };
 DropRun dropOnSphere(const SphereDrop& d);
 
+/// The median wall time (ms) of `iterations` bare XPBD sweeps of the drop's cloth (bareXpbdSweeps(),
+/// on one thread), from its predicted positions half way through the drop, over `repeats` runs; 0
+/// where the bare sweeps are not built. What the method's own work on the links costs a step.
+double bareSweepsMs(const SphereDrop& d, int repeats);
+
+#ifdef GPL_BARE_XPBD
+/// Instructors' tree only (bench/instructor/bare_xpbd.cpp; built with GPL_BARE_XPBD, and
+/// bareSweepsMs() is 0 without it). `iterations` sweeps of `links` in their order, each link's
+/// multiplier from 0, moving `p` (inverse masses `w`) by XPBD's projection as the reference
+/// solveDistanceConstraint() computes it, written out in place: no hook calls, no contacts, no
+/// threads. The links' share of a step's projection, and all of it for a cloth that touches nothing.
+void bareXpbdSweeps(std::vector<Vec3>& p, const std::vector<double>& w, std::vector<DistanceLink>& links, double h,
+                    int iterations);
+#endif
+
 /// The measures of a DropRun from particle positions (both engines use them): `links` are the
 /// stretch links' particle pairs and rest lengths.
 double penetration(const std::vector<Vec3>& x, const SphereDrop& d);

@@ -116,5 +116,42 @@ TEST(ClothStudy, TheMeasuresReadPositions) {
     EXPECT_EQ(median({3.0, 1.0, 2.0}), 2.0);
 }
 
+#ifdef GPL_BARE_XPBD  // bench/instructor/bare_xpbd.cpp, in an instructor's tree
+TEST(ClothStudy, BareXpbdSweepsMoveTheClothAsTheProjectionDoes) {
+    // The soft hanging cloth (pinned top row, compliant links) half a second into its fall, stretched,
+    // then predicted: the bare sweeps and the engine's projection start from the same positions.
+    const double h = 1.0 / 60.0;
+    const int iterations = 10;
+    SoftBodies soft;
+    soft.setThreads(1);
+    soft.addCloth(hangingClothSpec(kN, kSide, kMass, kSoftXpbd));
+    const Vec3 g(0.0, -9.81, 0.0);
+    for (int s = 0; s < 30; ++s) {
+        soft.predict(h, g, s * h);
+        soft.project(h, iterations, {});
+        soft.updateVelocities(h);
+    }
+    soft.predict(h, g, 30 * h);
+    std::vector<Vec3> bare = soft.p, fewer = soft.p;
+    std::vector<DistanceLink> links = soft.links, fewerLinks = soft.links;
+    bareXpbdSweeps(bare, soft.w, links, h, iterations);
+    bareXpbdSweeps(fewer, soft.w, fewerLinks, h, iterations - 1);
+    soft.project(h, iterations, {});
+    // The same arithmetic in the same order: equal to rounding (1e-12 of the spacing); one sweep
+    // fewer leaves the stretched cloth's particles that far apart, which shows the check can fail.
+    const double tolerance = 1e-12 * kSide / (kN - 1);
+    int fewerApart = 0;
+    for (std::size_t i = 0; i < bare.size(); ++i) {
+        EXPECT_LE((bare[i] - soft.p[i]).norm(), tolerance) << "particle " << i;
+        if ((fewer[i] - soft.p[i]).norm() > tolerance) ++fewerApart;
+    }
+    // Every particle but the pinned top row moves in the tenth sweep.
+    EXPECT_EQ(fewerApart, kN * (kN - 1));
+    for (std::size_t k = 0; k < links.size(); ++k) {
+        EXPECT_NEAR(links[k].lambda, soft.links[k].lambda, 1e-12 * std::abs(soft.links[k].lambda)) << "link " << k;
+    }
+}
+#endif
+
 }  // namespace
 }  // namespace gpl::study
