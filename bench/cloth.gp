@@ -53,9 +53,11 @@ if (have('cloth-iterations.dat') && have('cloth-timestep.dat')) {
 
 # 2. What a step costs, and the drop beside Bullet.
 if (have('cloth-cost.dat') || have('cloth-bullet.dat')) {
-    eval 'set terminal '.terminal(1100, 520)
+    # A panel for each part that was run, side by side.
+    panels = have('cloth-cost.dat') + have('cloth-bullet.dat')
+    eval 'set terminal '.terminal(550 * panels, 520)
     set output dir.'/cloth-speed.'.ext
-    set multiplot layout 1,2 title 'What a cloth step costs'
+    eval sprintf("set multiplot layout 1,%d title 'What a cloth step costs'", panels)
     set bmargin 6
     unset logscale
     set format x '%g'
