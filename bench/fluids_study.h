@@ -113,10 +113,11 @@ double bareNeighbourSum(const ParticleGrid& grid, const std::vector<Vec3>& x, do
 /// framework: its three passes over the neighbours in `grid` (found at `x`) with the kernels
 /// written out in place, as the reference hooks compute them (densities from max(rho_i, rho0) to
 /// multipliers with eps, then the moves with s_corr), and every particle moved; the fluid's mass,
-/// rest density, smoothing length, eps and tensile correction. No push out of walls. Writes the moved positions to `moved` and returns the
-/// sum of their coordinates (so that the loop is not optimised away).
-double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity,
-                        double h, double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,
+/// rest density, smoothing length, eps and tensile correction. No push out of walls. Writes the
+/// moved positions to `moved` and returns the sum of their coordinates (so that the loop is not
+/// optimised away).
+double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity, double h,
+                        double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,
                         std::vector<Vec3>& moved);
 
 /// 5. A dam-break scene (dam-break or dam-break-sph, scenes_worksheet9.cpp) stepped to T = Tend:

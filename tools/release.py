@@ -48,7 +48,9 @@ RELEASED = ["lab", "CMakeLists.txt", "CMakePresets.json", ".clang-format", ".git
 # The Gradescope autograder: what builds and grades a submission; worksheets are not needed.
 GRADESCOPE = ["lab", "CMakeLists.txt", "CMakePresets.json", "cmake", "framework", "bench", "tests/CMakeLists.txt",
               "tests/framework", "tests/autograder", "tests/grading", "tools/grade.py", "tools/grading", "tools/hooks.py", "tools/similarity.py"]
-EXCLUDED = {"worksheets/instructor", "bench/instructor", "__pycache__"}
+# Folders inside released ones that are for instructors only.
+INSTRUCTORS_ONLY = ("worksheets/instructor", "bench/instructor")
+EXCLUDED = {*INSTRUCTORS_ONLY, "__pycache__"}
 # The release's README.md: written for students, from this file (the instructors' README stays here).
 STUDENT_README = "docs/student-README.md"
 # Parts of it between these lines are kept only in a release written with --reference-demo; parts
@@ -124,7 +126,7 @@ def leaks(folder):
         for secret, origin in secrets.items():
             if secret in text:
                 found.append((str(path.relative_to(folder)), secret, origin))
-    for forbidden in ("solutions", "tests/mutants", "tests/grader", "worksheets/instructor", "bench/instructor"):
+    for forbidden in ("solutions", "tests/mutants", "tests/grader", *INSTRUCTORS_ONLY):
         if (folder / forbidden).exists():
             found.append((forbidden, "the folder itself", forbidden))
     return found

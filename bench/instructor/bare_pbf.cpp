@@ -8,8 +8,8 @@
 
 namespace gpl::study {
 
-double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity,
-                        double h, double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,
+double barePbfIteration(const ParticleGrid& grid, const std::vector<Vec3>& x, double mass, double restDensity, double h,
+                        double epsilon, const TensileCorrection& tensile, std::vector<double>& lambda,
                         std::vector<Vec3>& moved) {
     constexpr double pi = 3.14159265358979323846;
     const double h2 = h * h;
