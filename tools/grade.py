@@ -45,6 +45,7 @@ import shutil
 import subprocess
 import sys
 import time
+import traceback
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "tools"))
@@ -205,6 +206,10 @@ def cmd_batch(args):
             grade_submission(sub, args, checker, guard, reference)
         except GradeError as e:  # whatever goes wrong with one submission, the others are graded
             sub.results = failed_results(tests, f"could not be graded: {e}")
+        except Exception as e:  # a fault of the grader's own: the others are graded all the same
+            traceback.print_exc()
+            sub.results = failed_results(tests, f"could not be graded: an error in the grader ({type(e).__name__}: "
+                                                f"{e}); grade this submission again, and report the error")
         write(sub)
 
     with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:

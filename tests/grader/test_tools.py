@@ -482,6 +482,20 @@ class Sandboxing(unittest.TestCase):
                          "suppressions=/grader/lsan_options.supp:print_suppressions=0")
         self.assertEqual(self.probe("cat", "/grader/lsan_options.supp", env=env), supp.read_text())
 
+    def test_an_engine_process_is_read_once_and_a_gone_one_is_none(self):
+        # A test being stopped can lose a process between two reads of /proc: one read decides.
+        with mock.patch.object(sandbox, "_usage", side_effect=[(4096, 1, "gpl-engine"), None]):
+            self.assertTrue(running.engine_process(12345))
+        with mock.patch.object(sandbox, "_usage", return_value=(4096, 1, "bwrap")):
+            self.assertFalse(running.engine_process(12345))
+        child = subprocess.Popen(["sleep", "30"])
+        try:
+            self.assertTrue(running.engine_process(child.pid))
+        finally:
+            child.kill()
+            child.wait()
+        self.assertFalse(running.engine_process(child.pid))
+
     def test_a_batch_never_reserves_more_memory_than_there_is(self):
         budget = sandbox.MemoryBudget(total_mib=2600)  # 80 %: 2080 MiB, room for two tests of 1024
         self.assertEqual(budget.slots(1024), 2)

@@ -324,6 +324,13 @@ class Pair:
     seconds = 0.0
 
 
+def engine_process(pid):
+    """Whether pid is one of the engine's own processes, not bubblewrap's or the launcher's; False
+    once it has ended. Read once: a process of a test being stopped can end between two reads."""
+    usage = sandbox._usage(pid)
+    return usage is not None and usage[2] not in ("bwrap", "gpl-launch")
+
+
 def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
     """Runs one graded test: the engine first (in the sandbox, within its limits), then the checker,
     wired by two pipes; the time limit applies to the pair (LOAD_ALLOWANCE: from the engine's start,
@@ -427,7 +434,7 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
                 pass
             if result.runner_rc is None:
                 for pid in (group.processes() if group else sandbox.test_processes(runner)):
-                    if sandbox._usage(pid) and sandbox._usage(pid)[2] not in ("bwrap", "gpl-launch"):
+                    if engine_process(pid):
                         try:
                             os.kill(pid, signal.SIGUSR1)
                         except (ProcessLookupError, PermissionError):
@@ -450,8 +457,7 @@ def run_pair(programs, test, limits, folder, sandbox_here=None, cgroups=None):
         if result.runner_rc is None:
             # The engine's own processes first, so that bubblewrap ends and reaps them itself.
             for pid in (group.processes() if group else sandbox.descendants(runner)):
-                usage = sandbox._usage(pid)
-                if usage and usage[2] not in ("bwrap", "gpl-launch"):
+                if engine_process(pid):
                     try:
                         os.kill(pid, signal.SIGKILL)
                     except (ProcessLookupError, PermissionError):
