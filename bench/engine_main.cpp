@@ -12,12 +12,15 @@
 #include <iostream>
 #include <memory>
 #include <optional>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include <pthread.h>
+#include <sched.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -153,6 +156,53 @@ double roundTripNs() {
     return ns / trips;
 }
 
+// How long one processor takes per access for random reads and writes of 64-byte records in 256 KiB
+// (ns), a thread pinned to it: what a stage's sweeps do to its bodies. Each processor runs alone, one
+// after the other. On a virtual machine two processors can differ here by a factor of two while
+// their arithmetic runs alike: two halves of equal work then wait for the slower. -1 where the
+// thread cannot be pinned there.
+double accessNsOn(int processor) {
+    struct alignas(64) Record {
+        double value[8];
+    };
+    constexpr std::size_t kRecords = 256 * 1024 / sizeof(Record);
+    constexpr int kRounds = 40;
+    std::vector<Record> records(kRecords);
+    std::vector<std::uint32_t> visits(4 * kRecords);
+    std::mt19937 random(7);
+    for (std::uint32_t& v : visits) v = static_cast<std::uint32_t>(random() % kRecords);
+    for (std::size_t i = 0; i < kRecords; ++i) records[i].value[0] = static_cast<double>(i);
+    double ns = -1.0;
+    std::thread pinned([&] {
+        cpu_set_t set;
+        CPU_ZERO(&set);
+        CPU_SET(processor, &set);
+        if (pthread_setaffinity_np(pthread_self(), sizeof set, &set) != 0) return;
+        std::vector<double> rounds;
+        double total = 0.0;
+        for (int round = 0; round < kRounds; ++round) {
+            const auto start = std::chrono::steady_clock::now();
+            for (std::size_t k = 0; k + 1 < visits.size(); k += 2) {
+                Record& a = records[visits[k]];
+                Record& b = records[visits[k + 1]];
+                const double d = 0.01 * (b.value[0] - a.value[0]);  // a pair's exchange, as an impulse's
+                a.value[0] += d;
+                a.value[1] += d;
+                b.value[0] -= d;
+                total += d;  // summed, as a sweep sums its impulses
+            }
+            rounds.push_back(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count() /
+                             static_cast<double>(visits.size()));
+        }
+        std::sort(rounds.begin(), rounds.end());
+        ns = rounds[rounds.size() / 2];
+        volatile double sink = total;  // keeps the loop
+        (void)sink;
+    });
+    pinned.join();
+    return ns;
+}
+
 // What a second thread can give on this machine: two loops run one after the other on one thread,
 // then at once on two, for a loop bound by the latency of its arithmetic (a chain of square roots)
 // and one bound by the core's arithmetic units (eight independent multiply-add chains). Two
@@ -189,6 +239,12 @@ void secondThreadGain(std::ostream& out) {
         << fixed(gain(latency), 2) << "x as fast for a chain of square roots, " << fixed(gain(throughput), 2)
         << "x for eight independent multiply-add chains; a cache line from one thread to the other and back: "
         << fixed(roundTripNs(), 0) << " ns\n";
+    const double first = accessNsOn(0), second = accessNsOn(1);
+    if (first > 0.0 && second > 0.0) {
+        out << "each processor alone, random reads and writes of 64-byte records in 256 KiB: processor 0 "
+            << fixed(first, 1) << " ns, processor 1 " << fixed(second, 1) << " ns per access (the slower "
+            << fixed(std::max(first, second) / std::min(first, second), 2) << "x the faster)\n";
+    }
 }
 
 // One busy process beside the run: a child of this program that spins on a core until it is killed,

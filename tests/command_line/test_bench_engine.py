@@ -68,6 +68,21 @@ class BenchEngine(unittest.TestCase):
         self.assertRegex(text, r"\n20 +ours 1 thread .*\n20 +ours 2 threads ")
         self.assertTrue(all(r["busy"] == "0" for r in rows), rows)
 
+    @unittest.skipUnless({0, 1} <= os.sched_getaffinity(0), "needs processors 0 and 1")
+    def test_two_threads_report_each_processors_access_time_alone(self):
+        # The probe that shows two processors of unequal speed: both figures, and the slower over
+        # the faster as they give it (to their printed digits: a tenth of a nanosecond each).
+        text, _ = self.run_bench("--threads", "1", "2")
+        line = re.search(r"each processor alone, .*: processor 0 ([0-9.]+) ns, processor 1 ([0-9.]+) ns "
+                         r"per access \(the slower ([0-9.]+)x the faster\)", text)
+        self.assertIsNotNone(line, text)
+        first, second, ratio = (float(g) for g in line.groups())
+        self.assertGreater(min(first, second), 0.0)
+        self.assertGreaterEqual(ratio, 1.0)
+        low, high = sorted((first, second))
+        self.assertLessEqual((high - 0.05) / (low + 0.05) - 0.01, ratio)
+        self.assertLessEqual(ratio, (high + 0.05) / (low - 0.05) + 0.01)
+
     def test_busy_with_one_thread_count_runs_that_one(self):
         text, rows = self.run_bench("--busy", "--threads", "2")
         self.assertIsNotNone(BUSY_LINE.search(text), text)
