@@ -355,6 +355,32 @@ class Pairs(unittest.TestCase):
             self.assertRegex(verdict(-signal.SIGKILL, "timeout"), "^timed out after 2 s")
             self.assertRegex(verdict(-signal.SIGSEGV, trace="grader: stack overflow\n"), "^overflowed its stack in integrator")
 
+    def test_the_call_in_flight_at_a_limit_is_the_checkers_whatever_order_its_notes_came_in(self):
+        limits = sandbox.Limits(2, 100, 8, 64)
+        ended = '{"event": "ended", "call": "integrator()", "detail": "eof"}\n'
+        noted_none = '{"event": "waiting", "call": null}\n'
+        noted = '{"event": "waiting", "call": "sphereSphere()"}\n'
+        with tempfile.TemporaryDirectory() as tmp:
+            tmp = pathlib.Path(tmp)
+
+            def message(notes):
+                (tmp / "status.jsonl").write_text(notes)
+                pair = running.Pair()
+                pair.runner_rc, pair.why, pair.checker_rc = -signal.SIGKILL, "threads", 1
+                return running.verdict("S.T", pair, limits, tmp, isolated=False)[1]
+
+            # The engine ended within integrator() (a refused thread aborted it) and the checker saw
+            # that before the grader's question, which then finds no call in flight: integrator().
+            self.assertRegex(message(ended + noted_none), r"^ran more than 8 threads at once in integrator\(\)")
+            # No call in flight at the limit, and one that ended after it: the limit was broken
+            # between calls, and no hook is named.
+            self.assertRegex(message(noted_none + ended), r"^ran more than 8 threads at once and was stopped")
+            # A note that names its call is believed, whatever ended before it.
+            self.assertRegex(message(ended + noted), r"^ran more than 8 threads at once in sphereSphere\(\)")
+            self.assertRegex(message(noted), r"^ran more than 8 threads at once in sphereSphere\(\)")
+            self.assertRegex(message(ended), r"^ran more than 8 threads at once in integrator\(\)")
+            self.assertRegex(message(""), r"^ran more than 8 threads at once and was stopped")
+
     def test_a_hook_that_names_another_in_its_stack_is_not_believed(self):
         trace = "./gpl-hooks(_ZN3gpl13PhysicsEngine10integratorEv+0x2a)[0x56]\n"
         self.assertEqual(running.blamed_hook("sphereSphere()", trace, ""), "sphereSphere()")

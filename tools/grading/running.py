@@ -550,6 +550,22 @@ def _checker_status(folder):
     return events
 
 
+def call_in_flight(events):
+    """The call the checker had in flight when the test stopped, from its notes (trusted): the call
+    its last "waiting" note names (the grader asks at a limit). A note that names none, written once
+    the engine had already ended within a call ("ended" before it: a limit that ended the engine
+    reaches the checker first on a busy machine), names that call; one written before any call
+    ended, none (a limit broken between calls). Without a "waiting" note, the call the engine ended
+    within, or None."""
+    noted = [k for k, (event, _, _, _) in enumerate(events) if event == "waiting"]
+    if not noted:
+        return next((call for event, call, _, _ in events if event == "ended"), None)
+    last = noted[-1]
+    if events[last][1]:
+        return events[last][1]
+    return next((call for event, call, _, _ in events[:last] if event == "ended"), None)
+
+
 # The one hook that calls the others (the step's stages): a call stack of the engine may name which
 # of them was running. Any other call is the hook itself, whatever the engine's stack says.
 WHOLE_STEP = "simulationTimestep()"
@@ -662,10 +678,9 @@ def verdict(test, pair, limits, folder, isolated=None):
     test failed, naming the hook the checker had in flight."""
     isolated = sandbox.Sandbox.here().isolated if isolated is None else isolated
     events = _checker_status(folder)
-    waiting = [(call, stages) for event, call, _, stages in events if event == "waiting"]
     ended = [(call, detail) for event, call, detail, _ in events if event == "ended"]
     stages = next((st for event, call, _, st in reversed(events) if st is not None), None)
-    call = waiting[-1][0] if waiting else (ended[0][0] if ended else None)
+    call = call_in_flight(events)
     hook = blamed_hook(call, pair.trace, pair.output, test, stages)
     where = f" in {hook}" if hook else ""
     out = pair.output
